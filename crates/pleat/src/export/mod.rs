@@ -1,0 +1,1 @@
+//! Writers for simulated meshes: OBJ sequences, PLY and animated binary glTF.

@@ -1,0 +1,1 @@
+//! Counting pairs of non-adjacent triangles that intersect.

@@ -1,0 +1,3 @@
+//! Quality figures of a simulated state: stretch, penetrations, self-intersections.
+
+pub mod intersections;

@@ -1,0 +1,1 @@
+//! Origami: crease-pattern importers, the triangulated sheet and built-in patterns.
