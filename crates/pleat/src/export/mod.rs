@@ -6,9 +6,11 @@
 //! `InvalidInput` instead of panicking on a bad mesh. Shading normals for the
 //! writers come from [`vertex_normals`].
 
+pub mod gltf;
 pub mod obj;
 pub mod ply;
 
+pub use gltf::GlbAnimation;
 pub use obj::write_obj;
 pub use ply::write_ply;
 
