@@ -40,18 +40,12 @@ pub fn intersecting_pairs(positions: &[Vec3], triangles: &[[u32; 3]]) -> Vec<(u3
     pairs
 }
 
-/// A triangle that can take part: its index, corners and prepared geometry.
-struct Candidate {
-    corners: [u32; 3],
-    triangle: Triangle,
-}
-
 fn for_each_intersecting_pair(
     positions: &[Vec3],
     triangles: &[[u32; 3]],
     mut f: impl FnMut(u32, u32),
 ) {
-    let candidates: Vec<Option<Candidate>> = triangles
+    let candidates: Vec<Option<Triangle>> = triangles
         .iter()
         .map(|&corners| candidate(positions, corners))
         .collect();
@@ -68,20 +62,23 @@ fn for_each_intersecting_pair(
         })
         .collect();
     TriBvh::build(boxes).for_each_overlapping_pair(|a, b| {
-        let (Some(ca), Some(cb)) = (&candidates[a as usize], &candidates[b as usize]) else {
+        // Most candidate pairs are neighbours: reject them from the compact
+        // index array before touching the prepared triangles.
+        if share_a_vertex(triangles[a as usize], triangles[b as usize]) {
             return;
-        };
-        if !share_a_vertex(ca.corners, cb.corners) && tri_tri::overlap(&ca.triangle, &cb.triangle) {
-            f(a, b);
+        }
+        if let (Some(ta), Some(tb)) = (&candidates[a as usize], &candidates[b as usize]) {
+            if tri_tri::overlap(ta, tb) {
+                f(a, b);
+            }
         }
     });
 }
 
 /// `None` for a triangle that takes no part (see the module documentation).
-fn candidate(positions: &[Vec3], corners: [u32; 3]) -> Option<Candidate> {
+fn candidate(positions: &[Vec3], corners: [u32; 3]) -> Option<Triangle> {
     let [a, b, c] = corners.map(|i| positions.get(i as usize).copied());
-    let triangle = Triangle::new(a?, b?, c?)?;
-    Some(Candidate { corners, triangle })
+    Triangle::new(a?, b?, c?)
 }
 
 fn share_a_vertex(a: [u32; 3], b: [u32; 3]) -> bool {
@@ -138,9 +135,7 @@ mod tests {
         for (i, a) in candidates.iter().enumerate() {
             for (j, b) in candidates.iter().enumerate().skip(i + 1) {
                 if let (Some(a), Some(b)) = (a, b) {
-                    if !share_a_vertex(a.corners, b.corners)
-                        && tri_tri::overlap(&a.triangle, &b.triangle)
-                    {
+                    if !share_a_vertex(triangles[i], triangles[j]) && tri_tri::overlap(a, b) {
                         pairs.push((i as u32, j as u32));
                     }
                 }

@@ -98,36 +98,39 @@ impl TriBvh {
         bvh
     }
 
-    /// Fills node `index` with `items`, which start at `offset` in leaf order.
+    /// Fills node `index` with `items`, which start at `offset` in leaf order,
+    /// and returns its bounds (inner bounds are unions of the children's).
     /// Median splits halve the items, so the recursion is about log2(n) deep.
-    fn split(&mut self, index: usize, items: &mut [(u32, Aabb)], offset: usize) {
-        let bounds = items
-            .iter()
-            .fold(Aabb::EMPTY, |b, &(_, item)| b.union(item));
+    fn split(&mut self, index: usize, items: &mut [(u32, Aabb)], offset: usize) -> Aabb {
         if items.len() <= LEAF_SIZE {
+            let bounds = items
+                .iter()
+                .fold(Aabb::EMPTY, |b, &(_, item)| b.union(item));
             self.nodes[index] = Node {
                 bounds,
                 first: offset as u32,
                 count: items.len() as u32,
             };
-            return;
+            return bounds;
         }
         let axis = longest_axis(items);
         let mid = items.len() / 2;
         items.select_nth_unstable_by(mid, |a, b| {
-            a.1.centre()[axis].total_cmp(&b.1.centre()[axis])
+            let (ca, cb) = (a.1.min[axis] + a.1.max[axis], b.1.min[axis] + b.1.max[axis]);
+            ca.total_cmp(&cb)
         });
         let first = self.nodes.len();
+        self.nodes.extend([self.nodes[index]; 2]);
+        let (left, right) = items.split_at_mut(mid);
+        let bounds =
+            self.split(first, left, offset)
+                .union(self.split(first + 1, right, offset + mid));
         self.nodes[index] = Node {
             bounds,
             first: first as u32,
             count: 0,
         };
-        let placeholder = self.nodes[index];
-        self.nodes.extend([placeholder; 2]);
-        let (left, right) = items.split_at_mut(mid);
-        self.split(first, left, offset);
-        self.split(first + 1, right, offset + mid);
+        bounds
     }
 
     /// Calls `f(id_a, id_b)` once for every unordered pair of distinct items
