@@ -1,10 +1,10 @@
 //! Counting pairs of non-adjacent triangles that intersect: the
 //! `self_intersections` figure of `report.json`.
 //!
-//! A bounding volume hierarchy over the triangles' boxes ([`tri_bvh`]) finds
+//! A bounding volume hierarchy over the triangles' boxes (`tri_bvh`) finds
 //! candidate pairs; pairs that share a vertex index (adjacent triangles, which
-//! always touch) are skipped; the rest go through an exact-predicate
-//! triangle–triangle test in `f64` ([`tri_tri`]). Coplanar overlapping pairs
+//! always touch) are skipped; the rest go through an orientation-predicate
+//! triangle–triangle test in `f64` (`tri_tri`). Coplanar overlapping pairs
 //! count; pairs that only touch (within a relative 1e-12 of their size) may
 //! or may not count.
 //!
