@@ -1,1 +1,66 @@
-fn main() {}
+//! The `pleat` command: headless runs, checks and benchmarks of cloth and
+//! origami scenes (see DESIGN.md section 5 for the contracts).
+
+mod bench;
+mod check;
+mod output;
+mod report;
+mod run;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "pleat", version, about = "Cloth and origami simulation", long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Simulate a scene (the embedded drape scene if none is given).
+    Run(run::RunArgs),
+    /// Validate scene, mesh and crease-pattern files without simulating.
+    Check(check::CheckArgs),
+    /// Time the standard hanging cloth at several sizes.
+    Bench(bench::BenchArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        None => run::run(&run::RunArgs::default()),
+        Some(Command::Run(args)) => run::run(&args),
+        Some(Command::Check(args)) => check::check(&args),
+        Some(Command::Bench(args)) => bench::bench(&args),
+    };
+    match result {
+        Ok(code) => code,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// Runs `f` on a rayon pool of `threads` threads (all cores when `None`).
+fn with_threads<R: Send>(
+    threads: Option<usize>,
+    f: impl FnOnce() -> R + Send,
+) -> Result<R, String> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.unwrap_or(0))
+        .build()
+        .map_err(|e| format!("cannot start {threads:?} threads: {e}"))?;
+    Ok(pool.install(f))
+}
+
+/// Refuses the GPU backend until it exists.
+fn require_cpu(backend: &str) -> Result<(), String> {
+    match backend {
+        "cpu" => Ok(()),
+        "gpu" => Err("the GPU backend is not part of this build yet; use --backend cpu".into()),
+        other => Err(format!("unknown backend '{other}': use cpu or gpu")),
+    }
+}

@@ -1,9 +1,30 @@
 //! pleat: cloth and origami simulation.
 //!
 //! The core holds everything that does not need a GPU or a window: meshes and
-//! their topology, constraints with their projections, the solvers, forces,
-//! collisions, origami crease patterns, scene files and quality metrics.
+//! their topology ([`mesh`]), materials, constraints with their projections
+//! ([`constraint`]), the solvers ([`solver`]), forces ([`force`]), collisions
+//! ([`collide`]), origami crease patterns ([`origami`]), scene files
+//! ([`scene`]), quality metrics ([`metrics`]) and mesh export ([`export`]).
 
+pub mod collide;
+pub mod constraint;
 pub mod export;
+pub mod force;
+pub mod material;
+pub mod mesh;
 pub mod metrics;
+pub mod model;
 pub mod origami;
+pub mod particles;
+pub mod scene;
+pub mod simulation;
+pub mod solver;
+pub mod world;
+
+pub use glam;
+pub use material::Material;
+pub use model::Model;
+pub use particles::Particles;
+pub use simulation::Simulation;
+pub use solver::{SolverKind, SolverSettings};
+pub use world::World;

@@ -1,0 +1,127 @@
+//! `pleat bench`: whole-frame timings of the standard hanging cloth
+//! (DESIGN.md section 5), as a table or one JSON object a line.
+
+use crate::report::FrameTimes;
+use crate::{require_cpu, with_threads};
+use pleat::metrics::stretch;
+use pleat::scene::presets::hanging_cloth;
+use serde::Serialize;
+use std::path::Path;
+use std::process::ExitCode;
+use std::time::Instant;
+
+#[derive(clap::Args)]
+pub struct BenchArgs {
+    /// cpu or gpu.
+    #[arg(long, default_value = "cpu")]
+    backend: String,
+    /// Cloth sizes N (N x N particles), comma separated.
+    #[arg(long, value_delimiter = ',', default_values_t = [64u32, 128, 256])]
+    sizes: Vec<u32>,
+    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    substeps: u32,
+    /// Solve self-collision too.
+    #[arg(long)]
+    self_collision: bool,
+    /// Timed frames per size.
+    #[arg(long, default_value_t = 60, value_parser = clap::value_parser!(u32).range(1..))]
+    frames: u32,
+    /// Frames simulated before timing starts.
+    #[arg(long, default_value_t = 30)]
+    warmup: u32,
+    /// Long-range attachments from the pins.
+    #[arg(long)]
+    tethers: bool,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// One JSON object a line instead of a table.
+    #[arg(long)]
+    json: bool,
+}
+
+/// One line of `pleat bench --json`.
+#[derive(Serialize)]
+struct BenchLine {
+    backend: &'static str,
+    n: u32,
+    particles: usize,
+    substeps: u32,
+    self_collision: bool,
+    ms_per_frame: f64,
+    max_stretch: f32,
+    p95_ms: f64,
+    frames: u32,
+    threads: usize,
+    tethers: bool,
+}
+
+pub fn bench(args: &BenchArgs) -> Result<ExitCode, String> {
+    require_cpu(&args.backend)?;
+    if args.self_collision {
+        return Err(
+            "self-collision is not part of this build yet; run without --self-collision".into(),
+        );
+    }
+    if let Some(&n) = args.sizes.iter().find(|&&n| !(2..=4096).contains(&n)) {
+        return Err(format!("--sizes: {n} is out of range: sizes are 2 to 4096"));
+    }
+    if !args.json {
+        println!(
+            "{:>6} {:>10} {:>9} {:>12} {:>10} {:>12}",
+            "n", "particles", "substeps", "ms/frame", "p95 ms", "max stretch"
+        );
+    }
+    for &n in &args.sizes {
+        let line = with_threads(args.threads, || measure(args, n))??;
+        if args.json {
+            println!(
+                "{}",
+                serde_json::to_string(&line).map_err(|e| e.to_string())?
+            );
+        } else {
+            println!(
+                "{:>6} {:>10} {:>9} {:>12.3} {:>10.3} {:>12.4}",
+                line.n,
+                line.particles,
+                line.substeps,
+                line.ms_per_frame,
+                line.p95_ms,
+                line.max_stretch
+            );
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn measure(args: &BenchArgs, n: u32) -> Result<BenchLine, String> {
+    let scene = hanging_cloth(n, args.substeps, args.tethers);
+    let mut sim = scene
+        .build(Path::new("."), &scene.name)
+        .map_err(|e| e.to_string())?;
+    let dt = scene.frame_dt();
+    for _ in 0..args.warmup {
+        sim.step(dt);
+    }
+    let times: Vec<_> = (0..args.frames)
+        .map(|_| {
+            let start = Instant::now();
+            sim.step(dt);
+            start.elapsed()
+        })
+        .collect();
+    let t = FrameTimes::from(&times);
+    Ok(BenchLine {
+        backend: "cpu",
+        n,
+        particles: sim.particles.len(),
+        substeps: args.substeps,
+        self_collision: false,
+        ms_per_frame: t.mean,
+        max_stretch: stretch(&sim.model, &sim.particles).0,
+        p95_ms: t.p95,
+        frames: args.frames,
+        threads: rayon::current_num_threads(),
+        tethers: args.tethers,
+    })
+}

@@ -1,0 +1,76 @@
+//! `pleat check`: validate files without simulating; `ok` and a summary per
+//! good file, every error of a bad one, non-zero exit if any is bad.
+
+use pleat::mesh::obj::load_obj;
+use pleat::scene::Scene;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+#[derive(clap::Args)]
+pub struct CheckArgs {
+    /// Scene (.json), mesh (.obj) and crease-pattern (.cp, .fold, .svg) files.
+    #[arg(required = true)]
+    files: Vec<PathBuf>,
+}
+
+pub fn check(args: &CheckArgs) -> Result<ExitCode, String> {
+    let mut bad = 0;
+    for path in &args.files {
+        match summary(path) {
+            Ok(line) => println!("ok   {}: {line}", path.display()),
+            Err(errors) => {
+                bad += 1;
+                println!("FAIL {}", path.display());
+                for e in errors.lines() {
+                    println!("     {e}");
+                }
+            }
+        }
+    }
+    Ok(if bad == 0 {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
+}
+
+/// One-line description of a valid file, or its errors.
+fn summary(path: &Path) -> Result<String, String> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    match ext.as_str() {
+        "json" => scene_summary(path),
+        "obj" => {
+            let mesh = load_obj(path).map_err(|e| e.to_string())?;
+            Ok(format!(
+                "mesh, {} vertices, {} triangles",
+                mesh.positions.len(),
+                mesh.triangles.len()
+            ))
+        }
+        _ => Err(format!(
+            "{}: unknown file type '.{ext}': expected .json, .obj, .cp, .fold or .svg",
+            path.display()
+        )),
+    }
+}
+
+fn scene_summary(path: &Path) -> Result<String, String> {
+    let scene = Scene::load(path).map_err(|e| e.to_string())?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    let (model, world) = scene
+        .model(base, &path.display().to_string())
+        .map_err(|e| e.to_string())?;
+    Ok(format!(
+        "scene '{}', {} cloths, {} particles, {} triangles, {} colliders, {} frames",
+        scene.name,
+        model.cloths.len(),
+        model.particle_count(),
+        model.triangles.len(),
+        world.colliders.len(),
+        scene.frames
+    ))
+}

@@ -1,0 +1,131 @@
+//! report.json: what a run measured (DESIGN.md section 5).
+
+use pleat::scene::Scene;
+use pleat::solver::StageTimes;
+use pleat::Simulation;
+use serde::Serialize;
+use std::time::Duration;
+
+#[derive(Serialize)]
+pub struct Report {
+    pub scene: String,
+    pub backend: String,
+    pub solver: String,
+    pub frames: u32,
+    pub frame_dt: f32,
+    pub substeps: u32,
+    pub iterations: u32,
+    pub threads: usize,
+    pub particles: usize,
+    pub triangles: usize,
+    pub constraints: usize,
+    pub ms_per_frame: FrameTimes,
+    pub stages_ms: StagesMs,
+    pub contacts_per_frame: f64,
+    pub max_stretch: f32,
+    pub mean_stretch: f32,
+    pub nan: bool,
+    pub self_intersections: usize,
+    pub collider_penetrations: usize,
+    pub kinetic_energy: f32,
+}
+
+/// Milliseconds per frame over the run.
+#[derive(Serialize)]
+pub struct FrameTimes {
+    pub mean: f64,
+    pub p50: f64,
+    pub p95: f64,
+}
+
+impl FrameTimes {
+    pub fn from(frames: &[Duration]) -> Self {
+        let mut ms: Vec<f64> = frames.iter().map(|d| d.as_secs_f64() * 1e3).collect();
+        ms.sort_by(f64::total_cmp);
+        let pick = |q: f64| {
+            ms.get(((ms.len() as f64 - 1.0) * q).round() as usize)
+                .copied()
+                .unwrap_or(0.0)
+        };
+        FrameTimes {
+            mean: ms.iter().sum::<f64>() / ms.len().max(1) as f64,
+            p50: pick(0.5),
+            p95: pick(0.95),
+        }
+    }
+}
+
+/// Mean milliseconds per frame spent in each stage.
+#[derive(Serialize)]
+pub struct StagesMs {
+    pub forces: f64,
+    pub predict: f64,
+    pub constraints: f64,
+    pub collisions: f64,
+}
+
+impl StagesMs {
+    pub fn from(stages: &StageTimes, frames: u32) -> Self {
+        let per = |d: Duration| d.as_secs_f64() * 1e3 / frames.max(1) as f64;
+        StagesMs {
+            forces: per(stages.forces),
+            predict: per(stages.predict),
+            constraints: per(stages.constraints),
+            collisions: per(stages.collisions),
+        }
+    }
+}
+
+impl Report {
+    /// The report of `sim` after its run.
+    pub fn new(
+        sim: &Simulation,
+        scene: &Scene,
+        backend: &str,
+        frame_times: &[Duration],
+        threads: usize,
+    ) -> Self {
+        let m = sim.metrics();
+        let frames = frame_times.len() as u32;
+        Report {
+            scene: scene.name.clone(),
+            backend: backend.into(),
+            solver: format!("{:?}", sim.settings.kind).to_lowercase(),
+            frames,
+            frame_dt: scene.frame_dt(),
+            substeps: sim.settings.substeps,
+            iterations: sim.settings.iterations,
+            threads,
+            particles: sim.particles.len(),
+            triangles: sim.model.triangles.len(),
+            constraints: sim.constraint_count(),
+            ms_per_frame: FrameTimes::from(frame_times),
+            stages_ms: StagesMs::from(&sim.stages, frames),
+            contacts_per_frame: sim.stages.contacts as f64 / frames.max(1) as f64,
+            max_stretch: m.max_stretch,
+            mean_stretch: m.mean_stretch,
+            nan: m.nan,
+            self_intersections: m.self_intersections,
+            collider_penetrations: m.collider_penetrations,
+            kinetic_energy: m.kinetic_energy,
+        }
+    }
+
+    /// One line for the terminal.
+    pub fn summary_line(&self) -> String {
+        format!(
+            "{}: {} frames, {} particles, {:.2} ms/frame (p95 {:.2}), max stretch {:.4}, nan {}, {} collider penetrations, {} self-intersections",
+            self.scene, self.frames, self.particles, self.ms_per_frame.mean, self.ms_per_frame.p95, self.max_stretch, self.nan,
+            self.collider_penetrations, self.self_intersections
+        )
+    }
+
+    /// Per-stage timings, for --profile.
+    pub fn profile_text(&self) -> String {
+        let s = &self.stages_ms;
+        format!(
+            "profile (ms per frame): forces {:.3}, predict {:.3}, constraints {:.3}, collisions {:.3}; {:.1} contacts per frame",
+            s.forces, s.predict, s.constraints, s.collisions, self.contacts_per_frame
+        )
+    }
+}

@@ -1,0 +1,20 @@
+//! Constraints: each file holds one kind, its data and its XPBD projection.
+//!
+//! A constraint is a function `C(x)` of a few particle positions that the
+//! solver drives to zero (or keeps non-positive, for unilateral ones). XPBD
+//! projects it with a compliance `alpha` (inverse stiffness) and a Lagrange
+//! multiplier `lambda` per constraint:
+//! `dlambda = (-C - alpha~ lambda) / (sum_i w_i |grad_i C|^2 + alpha~)`,
+//! `alpha~ = alpha / dt^2`, `dx_i = w_i grad_i C dlambda` (Macklin et al. 2016).
+
+pub mod attachment;
+pub mod bending;
+pub mod distance;
+pub mod isometric_bending;
+pub mod tether;
+
+pub use attachment::Attachment;
+pub use bending::DihedralBending;
+pub use distance::DistanceConstraint;
+pub use isometric_bending::IsometricBending;
+pub use tether::Tether;

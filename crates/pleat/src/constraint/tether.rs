@@ -1,0 +1,90 @@
+//! Long-range attachments (Kim, Chentanez and Müller 2012): each particle may
+//! be no farther from a pinned particle than it was at rest,
+//! `C = |x - x_pin| - max_length <= 0`. They stop the stretch that builds up
+//! far from the pins when a few iterations cannot propagate it.
+
+use crate::solver::parallel::{Constraint, SharedPositions};
+use glam::Vec3;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tether {
+    /// The tethered particle (the only one the projection moves).
+    pub particle: [u32; 1],
+    /// The pinned particle it hangs from (read only).
+    pub pin: u32,
+    pub max_length: f32,
+}
+
+impl Tether {
+    /// Tethers from every dynamic particle to its `per_particle` nearest pins,
+    /// with the rest distance as the length limit.
+    pub fn from_pins(
+        rest: &[Vec3],
+        inv_mass: &[f32],
+        pins: &[u32],
+        per_particle: usize,
+    ) -> Vec<Tether> {
+        let mut tethers = Vec::new();
+        let mut nearest: Vec<(f32, u32)> = Vec::with_capacity(pins.len());
+        for (i, &p) in rest.iter().enumerate() {
+            if inv_mass[i] == 0.0 {
+                continue;
+            }
+            nearest.clear();
+            nearest.extend(pins.iter().map(|&k| (p.distance(rest[k as usize]), k)));
+            nearest.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            tethers.extend(nearest.iter().take(per_particle).map(|&(d, pin)| Tether {
+                particle: [i as u32],
+                pin,
+                max_length: d,
+            }));
+        }
+        tethers
+    }
+}
+
+impl Constraint for Tether {
+    fn particles(&self) -> &[u32] {
+        &self.particle
+    }
+
+    #[inline]
+    fn project(&self, _lambda: &mut f32, x: SharedPositions, inv_mass: &[f32], _inv_dt2: f32) {
+        let i = self.particle[0];
+        if inv_mass[i as usize] == 0.0 {
+            return;
+        }
+        let d = x.get(i) - x.get(self.pin);
+        let len = d.length();
+        if len > self.max_length {
+            x.add(i, d * ((self.max_length - len) / len));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tether_caps_distance_only() {
+        let rest = [Vec3::ZERO, Vec3::X, Vec3::new(3.0, 0.0, 0.0)];
+        let inv_mass = [0.0, 1.0, 1.0];
+        let tethers = Tether::from_pins(&rest, &inv_mass, &[0], 1);
+        assert_eq!(tethers.len(), 2);
+        let mut x = vec![
+            Vec3::ZERO,
+            Vec3::new(2.0, 0.0, 0.0),
+            Vec3::new(2.0, 0.0, 0.0),
+        ];
+        let shared = SharedPositions::new(&mut x);
+        for t in &tethers {
+            t.project(&mut 0.0, shared, &inv_mass, 1.0);
+        }
+        assert!(
+            (x[1].x - 1.0).abs() < 1e-6,
+            "stretched tether is pulled back"
+        );
+        assert!((x[2].x - 2.0).abs() < 1e-6, "slack tether does nothing");
+    }
+}

@@ -1,0 +1,122 @@
+//! The model: every cloth of a simulation assembled into one particle index
+//! space, with rest shapes, masses, topology, materials and pins. Solvers
+//! build their constraints from it.
+
+use crate::collide::Motion;
+use crate::material::Material;
+use crate::mesh::{lumped_masses, Mesh, Topology};
+use glam::Vec3;
+use std::ops::Range;
+
+/// A particle held by an attachment: exactly (compliance 0) or softly.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pin {
+    pub particle: u32,
+    pub compliance: f32,
+    pub motion: Motion,
+}
+
+/// One cloth inside the model.
+#[derive(Clone, Debug)]
+pub struct ClothPart {
+    pub name: String,
+    /// The mesh in its rest shape, with cloth-local indices.
+    pub mesh: Mesh,
+    pub topology: Topology,
+    pub material: Material,
+    /// First particle of this cloth in the model.
+    pub offset: u32,
+    /// Long-range attachments from this cloth's pins.
+    pub tethers: bool,
+}
+
+impl ClothPart {
+    pub fn particles(&self) -> Range<usize> {
+        self.offset as usize..self.offset as usize + self.mesh.positions.len()
+    }
+
+    /// Global index of a cloth-local vertex.
+    pub fn global(&self, local: u32) -> u32 {
+        self.offset + local
+    }
+}
+
+/// An edge of the rest mesh, for stretch measurements.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RestEdge {
+    pub v: [u32; 2],
+    pub rest_length: f32,
+}
+
+/// All cloths of a simulation.
+#[derive(Clone, Debug, Default)]
+pub struct Model {
+    pub cloths: Vec<ClothPart>,
+    pub rest: Vec<Vec3>,
+    /// Particle masses; zero for particles pinned with compliance zero.
+    pub mass: Vec<f32>,
+    /// Per particle: distance kept from colliders.
+    pub thickness: Vec<f32>,
+    pub triangles: Vec<[u32; 3]>,
+    pub edges: Vec<RestEdge>,
+    pub pins: Vec<Pin>,
+}
+
+impl Model {
+    /// Adds a cloth; `pins` use cloth-local vertex indices.
+    pub fn add_cloth(
+        &mut self,
+        name: &str,
+        mesh: Mesh,
+        material: Material,
+        pins: &[Pin],
+        tethers: bool,
+    ) {
+        let offset = self.rest.len() as u32;
+        let topology = Topology::new(&mesh);
+        let mut mass = lumped_masses(&mesh, material.density);
+        for pin in pins {
+            if pin.compliance == 0.0 {
+                mass[pin.particle as usize] = 0.0;
+            }
+            self.pins.push(Pin {
+                particle: pin.particle + offset,
+                ..*pin
+            });
+        }
+        self.mass.extend(mass);
+        self.thickness.extend(std::iter::repeat_n(
+            material.thickness,
+            mesh.positions.len(),
+        ));
+        self.triangles
+            .extend(mesh.triangles.iter().map(|t| t.map(|i| i + offset)));
+        self.edges.extend(topology.edges.iter().map(|e| RestEdge {
+            v: e.v.map(|i| i + offset),
+            rest_length: mesh.positions[e.v[0] as usize].distance(mesh.positions[e.v[1] as usize]),
+        }));
+        self.rest.extend_from_slice(&mesh.positions);
+        self.cloths.push(ClothPart {
+            name: name.to_string(),
+            mesh,
+            topology,
+            material,
+            offset,
+            tethers,
+        });
+    }
+
+    pub fn particle_count(&self) -> usize {
+        self.rest.len()
+    }
+
+    /// Particles held exactly, in the given cloth.
+    pub fn hard_pins_of(&self, cloth: &ClothPart) -> Vec<u32> {
+        let range = cloth.particles();
+        self.pins
+            .iter()
+            .filter(|p| p.compliance == 0.0 && range.contains(&(p.particle as usize)))
+            .map(|p| p.particle)
+            .collect()
+    }
+}

@@ -1,0 +1,65 @@
+//! The simulated state: particle positions, velocities and inverse masses,
+//! stored as structure of arrays.
+
+use glam::Vec3;
+
+/// Particles of every cloth in a simulation, one index space.
+#[derive(Clone, Debug, Default)]
+pub struct Particles {
+    /// Positions (the predicted positions while a substep is being solved).
+    pub x: Vec<Vec3>,
+    /// Positions at the start of the current substep.
+    pub x_prev: Vec<Vec3>,
+    pub v: Vec<Vec3>,
+    /// Inverse masses; zero for pinned (kinematic) particles.
+    pub inv_mass: Vec<f32>,
+}
+
+impl Particles {
+    /// Particles at rest at `positions` with the given masses (zero mass pins).
+    pub fn new(positions: Vec<Vec3>, mass: &[f32]) -> Self {
+        let inv_mass = mass
+            .iter()
+            .map(|&m| if m > 0.0 { 1.0 / m } else { 0.0 })
+            .collect();
+        Particles {
+            x_prev: positions.clone(),
+            v: vec![Vec3::ZERO; positions.len()],
+            x: positions,
+            inv_mass,
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        self.x.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.x.is_empty()
+    }
+
+    /// Total linear momentum of the dynamic particles.
+    pub fn momentum(&self) -> Vec3 {
+        self.v
+            .iter()
+            .zip(&self.inv_mass)
+            .filter(|(_, &w)| w > 0.0)
+            .map(|(v, w)| *v / *w)
+            .sum()
+    }
+
+    /// Kinetic energy of the dynamic particles.
+    pub fn kinetic_energy(&self) -> f32 {
+        self.v
+            .iter()
+            .zip(&self.inv_mass)
+            .filter(|(_, &w)| w > 0.0)
+            .map(|(v, w)| 0.5 * v.length_squared() / w)
+            .sum()
+    }
+
+    /// Whether any position or velocity is NaN or infinite.
+    pub fn has_non_finite(&self) -> bool {
+        self.x.iter().chain(&self.v).any(|p| !p.is_finite())
+    }
+}

@@ -1,0 +1,193 @@
+//! The scene file schema (serde): every field, its default and its meaning.
+
+use crate::collide::Friction;
+use crate::force::Wind;
+use crate::material::Material;
+use crate::mesh::GridOrientation;
+use crate::solver::SolverSettings;
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+/// A whole scene.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Name used in reports; defaults to the file name.
+    #[serde(default)]
+    pub name: String,
+    #[serde(default = "default_frames")]
+    pub frames: u32,
+    /// Frames per second of the output.
+    #[serde(default = "default_fps")]
+    pub fps: f32,
+    #[serde(default = "default_gravity")]
+    pub gravity: Vec3,
+    #[serde(default)]
+    pub solver: SolverSettings,
+    pub cloths: Vec<ClothSpec>,
+    #[serde(default)]
+    pub colliders: Vec<ColliderSpec>,
+    #[serde(default)]
+    pub wind: Option<Wind>,
+}
+
+fn default_frames() -> u32 {
+    300
+}
+fn default_fps() -> f32 {
+    60.0
+}
+fn default_gravity() -> Vec3 {
+    Vec3::new(0.0, -9.81, 0.0)
+}
+
+/// One cloth: its mesh, material, pins and tethers.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ClothSpec {
+    #[serde(default)]
+    pub name: String,
+    pub mesh: MeshSpec,
+    #[serde(default)]
+    pub material: Material,
+    #[serde(default)]
+    pub pins: Vec<PinSpec>,
+    /// Long-range attachments from the pins (limits stretch far from them).
+    #[serde(default)]
+    pub tethers: bool,
+}
+
+/// Where a cloth's mesh comes from.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum MeshSpec {
+    Grid(GridMeshSpec),
+    Obj(ObjMeshSpec),
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GridMeshSpec {
+    /// Vertices along x and along the other side.
+    pub resolution: [u32; 2],
+    /// Metres.
+    #[serde(default = "unit_size")]
+    pub size: [f32; 2],
+    #[serde(default)]
+    pub orientation: GridOrientation,
+    #[serde(default)]
+    pub center: Vec3,
+    #[serde(default = "yes")]
+    pub alternate_diagonals: bool,
+}
+
+fn unit_size() -> [f32; 2] {
+    [1.0, 1.0]
+}
+fn yes() -> bool {
+    true
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ObjMeshSpec {
+    /// Relative to the scene file's folder.
+    pub path: String,
+    #[serde(default = "unit_scale")]
+    pub scale: f32,
+    #[serde(default)]
+    pub translate: Vec3,
+}
+
+fn unit_scale() -> f32 {
+    1.0
+}
+
+/// A group of pinned vertices, chosen by grid corner, grid edge or index.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PinSpec {
+    #[serde(default)]
+    pub corners: Vec<Corner>,
+    #[serde(default)]
+    pub edges: Vec<Side>,
+    #[serde(default)]
+    pub indices: Vec<u32>,
+    /// 0 holds exactly; more lets the cloth pull away (m/N).
+    #[serde(default)]
+    pub compliance: f32,
+    #[serde(default)]
+    pub motion: MotionSpec,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Corner {
+    TopLeft,
+    TopRight,
+    BottomLeft,
+    BottomRight,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Side {
+    Top,
+    Bottom,
+    Left,
+    Right,
+}
+
+/// Scripted motion: constant linear and angular velocity.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct MotionSpec {
+    pub linear_velocity: Vec3,
+    /// Axis times rate (rad/s).
+    pub angular_velocity: Vec3,
+    /// Centre of rotation at time zero; defaults to the collider's centre (or the origin for pins).
+    pub pivot: Option<Vec3>,
+}
+
+/// A collider: shape, friction and motion.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ColliderSpec {
+    pub shape: ShapeSpec,
+    #[serde(default)]
+    pub friction: Friction,
+    #[serde(default)]
+    pub motion: MotionSpec,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum ShapeSpec {
+    /// Solid below the plane through `point` facing `normal`.
+    Plane {
+        #[serde(default)]
+        point: Vec3,
+        #[serde(default = "up")]
+        normal: Vec3,
+    },
+    Sphere {
+        center: Vec3,
+        radius: f32,
+    },
+    Box {
+        center: Vec3,
+        half_extents: Vec3,
+        /// Euler angles X, Y, Z in degrees.
+        #[serde(default)]
+        rotation_degrees: Vec3,
+    },
+    Capsule {
+        a: Vec3,
+        b: Vec3,
+        radius: f32,
+    },
+}
+
+fn up() -> Vec3 {
+    Vec3::Y
+}

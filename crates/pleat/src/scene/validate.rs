@@ -1,0 +1,171 @@
+//! Checks of values that parse but make no sense: zero resolutions, negative
+//! densities, zero radii. Every error found is reported, each with its path.
+
+use super::{ClothSpec, ColliderSpec, MeshSpec, Scene, SceneError, ShapeSpec};
+use crate::force::Wind;
+
+/// Collects the range errors of `scene`.
+pub fn validate(scene: &Scene, file: &str) -> Vec<SceneError> {
+    let mut v = Validator {
+        file,
+        errors: Vec::new(),
+    };
+    v.check(scene.frames >= 1, "frames", "must be at least 1");
+    v.positive("fps", scene.fps);
+    v.finite3("gravity", scene.gravity.to_array());
+    v.check(
+        (1..=1000).contains(&scene.solver.substeps),
+        "solver.substeps",
+        "must be between 1 and 1000",
+    );
+    v.check(
+        (1..=1000).contains(&scene.solver.iterations),
+        "solver.iterations",
+        "must be between 1 and 1000",
+    );
+    v.non_negative("solver.damping", scene.solver.damping);
+    v.check(
+        !scene.cloths.is_empty(),
+        "cloths",
+        "a scene needs at least one cloth",
+    );
+    for (i, cloth) in scene.cloths.iter().enumerate() {
+        v.cloth(&format!("cloths[{i}]"), cloth);
+    }
+    for (i, collider) in scene.colliders.iter().enumerate() {
+        v.collider(&format!("colliders[{i}]"), collider);
+    }
+    if let Some(wind) = &scene.wind {
+        v.wind(wind);
+    }
+    v.errors
+}
+
+struct Validator<'a> {
+    file: &'a str,
+    errors: Vec<SceneError>,
+}
+
+impl Validator<'_> {
+    fn check(&mut self, ok: bool, path: &str, reason: &str) {
+        if !ok {
+            self.errors.push(SceneError {
+                file: self.file.into(),
+                path: path.into(),
+                reason: reason.into(),
+            });
+        }
+    }
+
+    fn positive(&mut self, path: &str, x: f32) {
+        self.check(
+            x.is_finite() && x > 0.0,
+            path,
+            &format!("must be a positive number, got {x}"),
+        );
+    }
+
+    fn non_negative(&mut self, path: &str, x: f32) {
+        self.check(
+            x.is_finite() && x >= 0.0,
+            path,
+            &format!("must be zero or positive, got {x}"),
+        );
+    }
+
+    fn finite3(&mut self, path: &str, x: [f32; 3]) {
+        self.check(
+            x.iter().all(|c| c.is_finite()),
+            path,
+            "must be three finite numbers",
+        );
+    }
+
+    fn cloth(&mut self, path: &str, cloth: &ClothSpec) {
+        match &cloth.mesh {
+            MeshSpec::Grid(g) => {
+                for (k, &r) in g.resolution.iter().enumerate() {
+                    self.check(
+                        (2..=4096).contains(&r),
+                        &format!("{path}.mesh.grid.resolution[{k}]"),
+                        &format!("must be between 2 and 4096 vertices, got {r}"),
+                    );
+                }
+                for (k, &s) in g.size.iter().enumerate() {
+                    self.positive(&format!("{path}.mesh.grid.size[{k}]"), s);
+                }
+                self.finite3(&format!("{path}.mesh.grid.center"), g.center.to_array());
+            }
+            MeshSpec::Obj(o) => {
+                self.positive(&format!("{path}.mesh.obj.scale"), o.scale);
+                self.check(
+                    !o.path.is_empty(),
+                    &format!("{path}.mesh.obj.path"),
+                    "must name an OBJ file",
+                );
+            }
+        }
+        let m = &cloth.material;
+        self.positive(&format!("{path}.material.density"), m.density);
+        self.non_negative(
+            &format!("{path}.material.stretch_compliance"),
+            m.stretch_compliance,
+        );
+        self.non_negative(
+            &format!("{path}.material.shear_compliance"),
+            m.shear_compliance,
+        );
+        self.non_negative(
+            &format!("{path}.material.bend_compliance"),
+            m.bend_compliance,
+        );
+        self.non_negative(&format!("{path}.material.thickness"), m.thickness);
+        for (i, pin) in cloth.pins.iter().enumerate() {
+            let p = format!("{path}.pins[{i}]");
+            self.non_negative(&format!("{p}.compliance"), pin.compliance);
+            self.check(
+                !(pin.corners.is_empty() && pin.edges.is_empty() && pin.indices.is_empty()),
+                &p,
+                "a pin group needs corners, edges or indices",
+            );
+        }
+    }
+
+    fn collider(&mut self, path: &str, c: &ColliderSpec) {
+        match &c.shape {
+            ShapeSpec::Plane { normal, .. } => self.check(
+                normal.length() > 1e-6,
+                &format!("{path}.shape.plane.normal"),
+                "must not be zero",
+            ),
+            ShapeSpec::Sphere { radius, .. } => {
+                self.positive(&format!("{path}.shape.sphere.radius"), *radius)
+            }
+            ShapeSpec::Box { half_extents, .. } => {
+                for (k, h) in half_extents.to_array().into_iter().enumerate() {
+                    self.positive(&format!("{path}.shape.box.half_extents[{k}]"), h);
+                }
+            }
+            ShapeSpec::Capsule { radius, .. } => {
+                self.positive(&format!("{path}.shape.capsule.radius"), *radius)
+            }
+        }
+        self.non_negative(
+            &format!("{path}.friction.static"),
+            c.friction.static_coefficient,
+        );
+        self.non_negative(
+            &format!("{path}.friction.kinetic"),
+            c.friction.kinetic_coefficient,
+        );
+    }
+
+    fn wind(&mut self, w: &Wind) {
+        self.non_negative("wind.drag", w.drag);
+        self.non_negative("wind.lift", w.lift);
+        self.non_negative("wind.air_density", w.air_density);
+        self.non_negative("wind.turbulence", w.turbulence);
+        self.positive("wind.turbulence_scale", w.turbulence_scale);
+        self.non_negative("wind.turbulence_frequency", w.turbulence_frequency);
+    }
+}

@@ -1,0 +1,84 @@
+//! Greedy graph colouring of constraints: two constraints that move a common
+//! particle never get the same colour.
+
+use std::ops::Range;
+
+/// Colours beyond this many go to one last colour solved serially.
+const MAX_PARALLEL_COLORS: u32 = 128;
+
+/// Colours `items` in order, each with the smallest colour none of its
+/// particles has yet, and returns them sorted by colour with the colour ranges.
+/// Constraints that find no free colour among the first 128 go to an overflow
+/// colour, split into single-item ranges so that they are solved one at a time.
+pub fn greedy_colors<C>(
+    items: Vec<C>,
+    particle_count: usize,
+    particles: impl Fn(&C) -> &[u32],
+) -> (Vec<C>, Vec<Range<usize>>) {
+    let mut used = vec![0u128; particle_count];
+    let mut color_of = Vec::with_capacity(items.len());
+    for item in &items {
+        let ps = particles(item);
+        let taken = ps.iter().fold(0u128, |m, &p| m | used[p as usize]);
+        let color = (!taken).trailing_zeros().min(MAX_PARALLEL_COLORS);
+        if color < MAX_PARALLEL_COLORS {
+            for &p in ps {
+                used[p as usize] |= 1 << color;
+            }
+        }
+        color_of.push(color);
+    }
+    let mut order: Vec<usize> = (0..items.len()).collect();
+    order.sort_by_key(|&i| color_of[i]); // stable: keeps mesh order inside a colour
+    let ranges = color_ranges(&order, &color_of);
+    let mut slots: Vec<Option<C>> = items.into_iter().map(Some).collect();
+    let sorted = order.iter().filter_map(|&i| slots[i].take()).collect();
+    (sorted, ranges)
+}
+
+/// Ranges of equal colour over the sorted order; the overflow colour becomes
+/// one range per constraint, so that it is solved one at a time.
+fn color_ranges(order: &[usize], color_of: &[u32]) -> Vec<Range<usize>> {
+    let mut ranges: Vec<Range<usize>> = Vec::new();
+    for (pos, &i) in order.iter().enumerate() {
+        let color = color_of[i];
+        let extend = color < MAX_PARALLEL_COLORS && pos > 0 && color_of[order[pos - 1]] == color;
+        match ranges.last_mut() {
+            Some(r) if extend => r.end = pos + 1,
+            _ => ranges.push(pos..pos + 1),
+        }
+    }
+    ranges
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn no_colour_shares_a_particle() {
+        // A chain and a fan around particle 0.
+        let mut items: Vec<[u32; 2]> = (0..50).map(|i| [i, i + 1]).collect();
+        items.extend((2..40).map(|i| [0, i]));
+        let (sorted, ranges) = greedy_colors(items.clone(), 60, |c| c.as_slice());
+        assert_eq!(sorted.len(), items.len());
+        for r in &ranges {
+            let mut seen = std::collections::HashSet::new();
+            for c in &sorted[r.clone()] {
+                assert!(
+                    c.iter().all(|p| seen.insert(*p)),
+                    "colour {r:?} repeats a particle"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn overflow_colour_is_serial() {
+        // 200 constraints all sharing particle 0: 128 colours, then 72 single ranges.
+        let items: Vec<[u32; 2]> = (1..=200).map(|i| [0, i]).collect();
+        let (_, ranges) = greedy_colors(items, 201, |c| c.as_slice());
+        assert_eq!(ranges.len(), 200);
+        assert!(ranges.iter().all(|r| r.len() == 1));
+    }
+}

@@ -1,0 +1,309 @@
+//! XPBD with small steps (Macklin et al. 2016, 2019): each frame is cut into
+//! substeps; each substep predicts positions from velocities and external
+//! forces, projects the constraints (graph-coloured Gauss-Seidel, colours in
+//! parallel) with compliance and Lagrange multipliers, resolves contacts and
+//! derives velocities from the change of position.
+
+use super::parallel::ColoredConstraints;
+use super::{SolverKind, SolverSettings, StageTimes};
+use crate::collide::{project_contacts, ColliderPose};
+use crate::constraint::{
+    Attachment, DihedralBending, DistanceConstraint, IsometricBending, Tether,
+};
+use crate::force::WindForces;
+use crate::material::BendingModel;
+use crate::mesh::GridSpec;
+use crate::model::{ClothPart, Model};
+use crate::particles::Particles;
+use crate::world::World;
+use glam::Vec3;
+use rayon::prelude::*;
+
+/// Pins a tethered particle hangs from (its nearest ones).
+const TETHERS_PER_PARTICLE: usize = 2;
+
+pub struct Xpbd {
+    settings: SolverSettings,
+    /// Stretch, shear and skip-one bending edges.
+    distance: ColoredConstraints<DistanceConstraint>,
+    bending: ColoredConstraints<DihedralBending>,
+    isometric: ColoredConstraints<IsometricBending>,
+    tethers: ColoredConstraints<Tether>,
+    /// Attachments with compliance: solved with the other constraints.
+    soft_attachments: ColoredConstraints<Attachment>,
+    /// Attachments with compliance zero: their particles are moved onto the target.
+    hard_attachments: Vec<Attachment>,
+    triangles: Vec<[u32; 3]>,
+    thickness: Vec<f32>,
+    wind: WindForces,
+    poses: Vec<ColliderPose>,
+}
+
+impl Xpbd {
+    pub fn new(model: &Model, settings: &SolverSettings) -> Self {
+        let n = model.particle_count();
+        let inv_mass: Vec<f32> = model
+            .mass
+            .iter()
+            .map(|&m| if m > 0.0 { 1.0 / m } else { 0.0 })
+            .collect();
+        let mut distance = Vec::new();
+        let mut bending = Vec::new();
+        let mut isometric = Vec::new();
+        let mut tethers = Vec::new();
+        for cloth in &model.cloths {
+            distance.extend(edge_constraints(cloth, &model.rest));
+            match cloth.material.bending {
+                BendingModel::Dihedral => bending.extend(dihedral_constraints(cloth, &model.rest)),
+                BendingModel::Isometric => {
+                    for d in dihedral_constraints(cloth, &model.rest) {
+                        match isometric_if_flat(&d, &model.rest) {
+                            Some(c) => isometric.push(c),
+                            None => bending.push(d),
+                        }
+                    }
+                }
+                BendingModel::SkipOne => distance.extend(skip_one_constraints(cloth, &model.rest)),
+            }
+            if cloth.tethers {
+                let pins = model.hard_pins_of(cloth);
+                let range = cloth.particles();
+                tethers.extend(
+                    Tether::from_pins(
+                        &model.rest[range.clone()],
+                        &inv_mass[range],
+                        &pins_local(&pins, cloth),
+                        TETHERS_PER_PARTICLE,
+                    )
+                    .into_iter()
+                    .map(|t| Tether {
+                        particle: [cloth.global(t.particle[0])],
+                        pin: cloth.global(t.pin),
+                        ..t
+                    }),
+                );
+            }
+        }
+        let (hard, soft): (Vec<_>, Vec<_>) = model
+            .pins
+            .iter()
+            .map(|p| {
+                Attachment::new(
+                    p.particle,
+                    model.rest[p.particle as usize],
+                    p.motion,
+                    p.compliance,
+                )
+            })
+            .partition(Attachment::is_hard);
+        Xpbd {
+            settings: *settings,
+            distance: ColoredConstraints::new(distance, n),
+            bending: ColoredConstraints::new(bending, n),
+            isometric: ColoredConstraints::new(isometric, n),
+            tethers: ColoredConstraints::new(tethers, n),
+            soft_attachments: ColoredConstraints::new(soft, n),
+            hard_attachments: hard,
+            triangles: model.triangles.clone(),
+            thickness: model.thickness.clone(),
+            wind: WindForces::new(&model.triangles, n),
+            poses: Vec::new(),
+        }
+    }
+
+    /// One substep from time `t` to `t + dt`.
+    fn substep(
+        &mut self,
+        p: &mut Particles,
+        world: &World,
+        t: f32,
+        dt: f32,
+        stages: &mut StageTimes,
+    ) {
+        if let Some(wind) = &world.wind {
+            StageTimes::time(&mut stages.forces, || {
+                self.wind.apply(wind, &self.triangles, p, t, dt)
+            });
+        }
+        StageTimes::time(&mut stages.predict, || {
+            predict(p, world.gravity, self.settings.damping, dt);
+            for a in &mut self.hard_attachments {
+                a.update_target(t + dt);
+                p.x[a.particle[0] as usize] = a.target;
+            }
+        });
+        StageTimes::time(&mut stages.constraints, || {
+            self.project_constraints(p, t + dt, dt)
+        });
+        let contacts = StageTimes::time(&mut stages.collisions, || {
+            self.poses.clear();
+            self.poses.extend(
+                world
+                    .colliders
+                    .iter()
+                    .map(|c| ColliderPose::over(c, t, t + dt)),
+            );
+            project_contacts(
+                &mut p.x,
+                &p.x_prev,
+                &p.inv_mass,
+                &self.thickness,
+                &world.colliders,
+                &self.poses,
+            )
+        });
+        stages.contacts += contacts as u64;
+        StageTimes::time(&mut stages.predict, || update_velocities(p, dt));
+    }
+
+    fn project_constraints(&mut self, p: &mut Particles, t_end: f32, dt: f32) {
+        let inv_dt2 = 1.0 / (dt * dt);
+        for a in &mut self.soft_attachments.items {
+            a.update_target(t_end);
+        }
+        self.distance.reset_lambda();
+        self.bending.reset_lambda();
+        self.isometric.reset_lambda();
+        self.soft_attachments.reset_lambda();
+        for _ in 0..self.settings.iterations {
+            self.distance.solve(&mut p.x, &p.inv_mass, inv_dt2);
+            self.bending.solve(&mut p.x, &p.inv_mass, inv_dt2);
+            self.isometric.solve(&mut p.x, &p.inv_mass, inv_dt2);
+            self.soft_attachments.solve(&mut p.x, &p.inv_mass, inv_dt2);
+            self.tethers.solve(&mut p.x, &p.inv_mass, inv_dt2);
+        }
+    }
+}
+
+impl super::Solver for Xpbd {
+    fn kind(&self) -> SolverKind {
+        SolverKind::Xpbd
+    }
+
+    fn constraint_count(&self) -> usize {
+        self.distance.len()
+            + self.bending.len()
+            + self.isometric.len()
+            + self.tethers.len()
+            + self.soft_attachments.len()
+            + self.hard_attachments.len()
+    }
+
+    fn step(
+        &mut self,
+        particles: &mut Particles,
+        world: &World,
+        frame_dt: f32,
+        stages: &mut StageTimes,
+    ) {
+        let substeps = self.settings.substeps.max(1);
+        let dt = frame_dt / substeps as f32;
+        for s in 0..substeps {
+            self.substep(particles, world, world.time + s as f32 * dt, dt, stages);
+        }
+    }
+}
+
+/// `v += dt g`, damping, `x_prev = x`, `x += dt v` for every dynamic particle.
+fn predict(p: &mut Particles, gravity: Vec3, damping: f32, dt: f32) {
+    let keep = (1.0 - damping * dt).max(0.0);
+    (&mut p.x, &mut p.x_prev, &mut p.v, &p.inv_mass)
+        .into_par_iter()
+        .with_min_len(2048)
+        .for_each(|(x, x_prev, v, &w)| {
+            *x_prev = *x;
+            if w > 0.0 {
+                *v = (*v + gravity * dt) * keep;
+                *x += *v * dt;
+            }
+        });
+}
+
+/// `v = (x - x_prev) / dt`.
+fn update_velocities(p: &mut Particles, dt: f32) {
+    let inv_dt = 1.0 / dt;
+    (&p.x, &p.x_prev, &mut p.v)
+        .into_par_iter()
+        .with_min_len(2048)
+        .for_each(|(x, x_prev, v)| *v = (*x - *x_prev) * inv_dt);
+}
+
+/// Pins given as global indices, made local to `cloth`.
+fn pins_local(pins: &[u32], cloth: &ClothPart) -> Vec<u32> {
+    pins.iter().map(|&p| p - cloth.offset).collect()
+}
+
+/// Stretch and shear constraints on every mesh edge.
+fn edge_constraints<'a>(
+    cloth: &'a ClothPart,
+    rest: &'a [Vec3],
+) -> impl Iterator<Item = DistanceConstraint> + 'a {
+    let m = &cloth.material;
+    cloth.topology.edges.iter().map(move |e| {
+        let compliance = if cloth.mesh.is_grid_diagonal(e.v[0], e.v[1]) {
+            m.shear_compliance
+        } else {
+            m.stretch_compliance
+        };
+        DistanceConstraint::at_rest(e.v.map(|i| cloth.global(i)), rest, compliance)
+    })
+}
+
+/// Dihedral bending on every pair of adjacent triangles.
+fn dihedral_constraints<'a>(
+    cloth: &'a ClothPart,
+    rest: &'a [Vec3],
+) -> impl Iterator<Item = DihedralBending> + 'a {
+    cloth.topology.pairs.iter().map(move |pair| {
+        DihedralBending::at_rest(
+            pair.v.map(|i| cloth.global(i)),
+            rest,
+            cloth.material.bend_compliance,
+        )
+    })
+}
+
+/// The isometric form of a dihedral constraint whose pair is flat at rest.
+fn isometric_if_flat(d: &DihedralBending, rest: &[Vec3]) -> Option<IsometricBending> {
+    const FLAT: f32 = 1e-4;
+    (d.rest_angle.abs() < FLAT)
+        .then(|| IsometricBending::at_rest(d.v, rest, d.compliance))
+        .flatten()
+}
+
+/// Skip-one bending: along grid rows and columns, or wing to wing on other meshes.
+fn skip_one_constraints(cloth: &ClothPart, rest: &[Vec3]) -> Vec<DistanceConstraint> {
+    let pairs: Vec<[u32; 2]> = match cloth.mesh.grid {
+        Some([cols, rows]) => {
+            let spec = GridSpec::new(cols, rows, [1.0, 1.0]);
+            let mut pairs = Vec::new();
+            for r in 0..rows {
+                for c in 0..cols {
+                    if c + 2 < cols {
+                        pairs.push([spec.index(r, c), spec.index(r, c + 2)]);
+                    }
+                    if r + 2 < rows {
+                        pairs.push([spec.index(r, c), spec.index(r + 2, c)]);
+                    }
+                }
+            }
+            pairs
+        }
+        None => cloth
+            .topology
+            .pairs
+            .iter()
+            .map(|p| [p.v[2], p.v[3]])
+            .collect(),
+    };
+    pairs
+        .into_iter()
+        .map(|v| {
+            DistanceConstraint::at_rest(
+                v.map(|i| cloth.global(i)),
+                rest,
+                cloth.material.bend_compliance,
+            )
+        })
+        .collect()
+}
