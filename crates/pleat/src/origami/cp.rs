@@ -27,7 +27,10 @@ pub fn parse_cp(text: &str) -> Result<CreasePattern, PatternError> {
         segments += 1;
     }
     if segments == 0 {
-        return Err(PatternError::new("", "no segments (expected lines `type x1 y1 x2 y2`)"));
+        return Err(PatternError::new(
+            "",
+            "no segments (expected lines `type x1 y1 x2 y2`)",
+        ));
     }
     Ok(builder.finish())
 }
@@ -71,8 +74,10 @@ mod tests {
 
     #[test]
     fn reads_types_scientific_notation_and_crlf() {
-        let p = parse_cp("1 -0.0 200.0 2.4492935982947064E-14 -200.0\r\n\r\n0 0 0 1 1\n2 0 0 1 0\n3 1 0 1 1")
-            .unwrap();
+        let p = parse_cp(
+            "1 -0.0 200.0 2.4492935982947064E-14 -200.0\r\n\r\n0 0 0 1 1\n2 0 0 1 0\n3 1 0 1 1",
+        )
+        .unwrap();
         let kinds: Vec<_> = p.edges.iter().map(|e| e.assignment).collect();
         assert_eq!(
             kinds,

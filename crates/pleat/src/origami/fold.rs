@@ -77,7 +77,10 @@ fn vertices_coords(root: &Map<String, Value>) -> Result<Vec<DVec2>, PatternError
         if !(2..=3).contains(&coords.len()) {
             return Err(PatternError::new(
                 path,
-                format!("expected [x, y] or [x, y, z], found {} numbers", coords.len()),
+                format!(
+                    "expected [x, y] or [x, y, z], found {} numbers",
+                    coords.len()
+                ),
             ));
         }
         let x = number(&coords[0], &format!("{path}[0]"))?;
@@ -284,7 +287,11 @@ pub fn to_fold_json(pattern: &CreasePattern) -> String {
         .iter()
         .map(|p| serde_json::json!([p.x, p.y]))
         .collect();
-    let edges: Vec<Value> = pattern.edges.iter().map(|e| serde_json::json!(e.v)).collect();
+    let edges: Vec<Value> = pattern
+        .edges
+        .iter()
+        .map(|e| serde_json::json!(e.v))
+        .collect();
     let letters: Vec<&str> = pattern.edges.iter().map(|e| letter(e.assignment)).collect();
     let angles: Vec<Option<f64>> = pattern.edges.iter().map(|e| e.fold_angle).collect();
     let fold = serde_json::json!({
@@ -337,8 +344,8 @@ mod tests {
 
     #[test]
     fn absent_assignment_means_unassigned() {
-        let p = parse_fold(r#"{"vertices_coords":[[0,0],[1,0]],"edges_vertices":[[0,1]]}"#)
-            .unwrap();
+        let p =
+            parse_fold(r#"{"vertices_coords":[[0,0],[1,0]],"edges_vertices":[[0,1]]}"#).unwrap();
         assert_eq!(p.edges[0].assignment, Assignment::Unassigned);
     }
 
@@ -351,7 +358,13 @@ mod tests {
         assert_eq!(p.edges.len(), 5);
         let shared = p.edges.iter().find(|e| e.v == [0, 2]).unwrap();
         assert_eq!(shared.assignment, Assignment::Unassigned);
-        assert_eq!(p.edges.iter().filter(|e| e.assignment == Assignment::Boundary).count(), 4);
+        assert_eq!(
+            p.edges
+                .iter()
+                .filter(|e| e.assignment == Assignment::Boundary)
+                .count(),
+            4
+        );
     }
 
     fn error(text: &str) -> String {
@@ -361,7 +374,10 @@ mod tests {
     #[test]
     fn errors_name_json_path_and_reason() {
         assert!(error("{\"vertices_coords\": [").starts_with("line 1, column 21: bad JSON: "));
-        assert_eq!(error("[1]"), "top level: expected a JSON object, found an array");
+        assert_eq!(
+            error("[1]"),
+            "top level: expected a JSON object, found an array"
+        );
         assert_eq!(error("{}"), "vertices_coords: missing");
         assert_eq!(
             error(r#"{"vertices_coords":[[0,0],[1,"a"]],"edges_vertices":[]}"#),
@@ -372,11 +388,15 @@ mod tests {
             "edges_vertices[1][1]: vertex index 2 out of range (there are 2 vertices)"
         );
         assert_eq!(
-            error(r#"{"vertices_coords":[[0,0],[1,0]],"edges_vertices":[[0,1]],"edges_assignment":["X"]}"#),
+            error(
+                r#"{"vertices_coords":[[0,0],[1,0]],"edges_vertices":[[0,1]],"edges_assignment":["X"]}"#
+            ),
             "edges_assignment[0]: unknown assignment 'X' (expected B, M, V, F, U or C)"
         );
         assert_eq!(
-            error(r#"{"vertices_coords":[[0,0],[1,0]],"edges_vertices":[[0,1]],"edges_assignment":[]}"#),
+            error(
+                r#"{"vertices_coords":[[0,0],[1,0]],"edges_vertices":[[0,1]],"edges_assignment":[]}"#
+            ),
             "edges_assignment: has 0 entries, but edges_vertices has 1"
         );
         assert_eq!(

@@ -17,8 +17,7 @@ pub mod svg;
 pub use cp::parse_cp;
 pub use fold::{parse_fold, to_fold_json};
 pub use pattern::{
-    load_pattern, load_pattern_with_warnings, Assignment, CreasePattern, PatternEdge,
-    PatternError,
+    load_pattern, load_pattern_with_warnings, Assignment, CreasePattern, PatternEdge, PatternError,
 };
-//pub use sheet::{Hinge, Sheet, SheetOptions};
+pub use sheet::{Hinge, Sheet, SheetOptions};
 pub use svg::{parse_svg, SvgImport};

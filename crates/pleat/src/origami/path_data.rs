@@ -50,7 +50,12 @@ impl<'a> Scanner<'a> {
         let bytes = self.text.as_bytes();
         let start = self.pos;
         let mut end = start;
-        let digits = |from: usize| bytes[from..].iter().take_while(|b| b.is_ascii_digit()).count();
+        let digits = |from: usize| {
+            bytes[from..]
+                .iter()
+                .take_while(|b| b.is_ascii_digit())
+                .count()
+        };
         if matches!(bytes.get(end), Some(b'+' | b'-')) {
             end += 1;
         }
@@ -62,7 +67,10 @@ impl<'a> Scanner<'a> {
             end += 1 + fraction;
         }
         if whole + fraction == 0 {
-            return Err(format!("expected a number at character {}", self.position()));
+            return Err(format!(
+                "expected a number at character {}",
+                self.position()
+            ));
         }
         if matches!(bytes.get(end), Some(b'e' | b'E')) {
             let sign = usize::from(matches!(bytes.get(end + 1), Some(b'+' | b'-')));
@@ -77,7 +85,10 @@ impl<'a> Scanner<'a> {
                 self.pos = end;
                 Ok(v)
             }
-            _ => Err(format!("bad number '{token}' at character {}", self.position())),
+            _ => Err(format!(
+                "bad number '{token}' at character {}",
+                self.position()
+            )),
         }
     }
 
@@ -224,7 +235,10 @@ pub fn parse_transform(text: &str) -> Result<DAffine2, String> {
         let name = &s.text[start..start + name_len];
         s.pos += name_len;
         if s.peek() != Some(b'(') {
-            return Err(format!("expected '(' after '{name}' at character {}", s.position()));
+            return Err(format!(
+                "expected '(' after '{name}' at character {}",
+                s.position()
+            ));
         }
         s.pos += 1;
         let mut args = Vec::new();
@@ -245,7 +259,10 @@ fn transform_function(name: &str, args: &[f64]) -> Result<DAffine2, String> {
         if allowed.contains(&args.len()) {
             Ok(())
         } else {
-            Err(format!("{name} takes {allowed:?} numbers, found {}", args.len()))
+            Err(format!(
+                "{name} takes {allowed:?} numbers, found {}",
+                args.len()
+            ))
         }
     };
     match name {
@@ -278,11 +295,25 @@ fn transform_function(name: &str, args: &[f64]) -> Result<DAffine2, String> {
         }
         "skewX" => {
             arity(&[1])?;
-            Ok(DAffine2::from_cols_array(&[1.0, 0.0, args[0].to_radians().tan(), 1.0, 0.0, 0.0]))
+            Ok(DAffine2::from_cols_array(&[
+                1.0,
+                0.0,
+                args[0].to_radians().tan(),
+                1.0,
+                0.0,
+                0.0,
+            ]))
         }
         "skewY" => {
             arity(&[1])?;
-            Ok(DAffine2::from_cols_array(&[1.0, args[0].to_radians().tan(), 0.0, 1.0, 0.0, 0.0]))
+            Ok(DAffine2::from_cols_array(&[
+                1.0,
+                args[0].to_radians().tan(),
+                0.0,
+                1.0,
+                0.0,
+                0.0,
+            ]))
         }
         other => Err(format!("unknown transform function '{other}'")),
     }
@@ -310,17 +341,28 @@ mod tests {
     #[test]
     fn packed_numbers_implicit_linetos_and_drawing_after_close() {
         let subs = parse_path("m10-92.5.5 1 1e1,0L1 1z l1 0").unwrap();
-        assert_eq!(points(&subs[0]), [(10.0, -92.5), (10.5, -91.5), (20.5, -91.5), (1.0, 1.0)]);
+        assert_eq!(
+            points(&subs[0]),
+            [(10.0, -92.5), (10.5, -91.5), (20.5, -91.5), (1.0, 1.0)]
+        );
         assert!(subs[0].closed);
         assert_eq!(points(&subs[1]), [(10.0, -92.5), (11.0, -92.5)]);
     }
 
     #[test]
     fn path_errors() {
-        assert!(parse_path("L1 1").unwrap_err().contains("must start with a moveto"));
-        assert!(parse_path("M1 1 q1 1 2 2").unwrap_err().contains("curve command 'q'"));
-        assert!(parse_path("M1 1 L2").unwrap_err().contains("expected a number"));
-        assert!(parse_path("M1 1 X").unwrap_err().contains("unknown command 'X'"));
+        assert!(parse_path("L1 1")
+            .unwrap_err()
+            .contains("must start with a moveto"));
+        assert!(parse_path("M1 1 q1 1 2 2")
+            .unwrap_err()
+            .contains("curve command 'q'"));
+        assert!(parse_path("M1 1 L2")
+            .unwrap_err()
+            .contains("expected a number"));
+        assert!(parse_path("M1 1 X")
+            .unwrap_err()
+            .contains("unknown command 'X'"));
         assert!(parse_path("M1 1z 3").unwrap_err().contains("after 'z'"));
         assert!(parse_path("M1e999 1").unwrap_err().contains("bad number"));
     }
@@ -338,8 +380,14 @@ mod tests {
         assert!((p - DVec2::new(10.0, 7.0)).length() < 1e-12, "{p}");
         let m = parse_transform("matrix(1 0 0 1 3 4)").unwrap();
         assert_eq!(m.transform_point2(DVec2::ZERO), DVec2::new(3.0, 4.0));
-        assert!(parse_transform("scale(1 2 3)").unwrap_err().contains("scale takes"));
-        assert!(parse_transform("spin(3)").unwrap_err().contains("unknown transform"));
-        assert!(parse_transform("scale(1").unwrap_err().contains("missing ')'"));
+        assert!(parse_transform("scale(1 2 3)")
+            .unwrap_err()
+            .contains("scale takes"));
+        assert!(parse_transform("spin(3)")
+            .unwrap_err()
+            .contains("unknown transform"));
+        assert!(parse_transform("scale(1")
+            .unwrap_err()
+            .contains("missing ')'"));
     }
 }

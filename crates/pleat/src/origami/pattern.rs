@@ -197,12 +197,10 @@ fn read_and_parse(path: &Path) -> Result<(CreasePattern, Vec<String>), PatternEr
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase)
         .unwrap_or_default();
-    let bytes = std::fs::read(path).map_err(|e| PatternError::new("", format!("cannot read: {e}")))?;
+    let bytes =
+        std::fs::read(path).map_err(|e| PatternError::new("", format!("cannot read: {e}")))?;
     let text = std::str::from_utf8(&bytes).map_err(|e| {
-        PatternError::new(
-            format!("byte {}", e.valid_up_to()),
-            "not valid UTF-8 text",
-        )
+        PatternError::new(format!("byte {}", e.valid_up_to()), "not valid UTF-8 text")
     })?;
     match extension.as_str() {
         "cp" => cp::parse_cp(text).map(|p| (p, Vec::new())),
@@ -222,7 +220,10 @@ mod tests {
     #[test]
     fn error_display_names_file_location_and_reason() {
         let e = PatternError::new("line 3", "expected 5 fields, found 4").with_file("lines.cp");
-        assert_eq!(e.to_string(), "lines.cp: line 3: expected 5 fields, found 4");
+        assert_eq!(
+            e.to_string(),
+            "lines.cp: line 3: expected 5 fields, found 4"
+        );
         let whole = PatternError::new("", "no segments");
         assert_eq!(whole.to_string(), "no segments");
     }

@@ -62,7 +62,11 @@ fn validate(pattern: &CreasePattern) -> Result<(), PatternError> {
         ));
     }
     let count = pattern.vertices.len();
-    match pattern.edges.iter().position(|e| e.v.iter().any(|&v| v >= count)) {
+    match pattern
+        .edges
+        .iter()
+        .position(|e| e.v.iter().any(|&v| v >= count))
+    {
         Some(i) => Err(PatternError::new(
             format!("edge {i}"),
             format!("vertex index out of range (there are {count} vertices)"),
@@ -80,9 +84,11 @@ fn bounds(pattern: &CreasePattern) -> Option<(DVec2, DVec2)> {
         .map(|i| pattern.vertices[i])
         .peekable();
     used.peek()?;
-    Some(used.fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(lo, hi), p| {
-        (lo.min(p), hi.max(p))
-    }))
+    Some(
+        used.fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(p), hi.max(p))
+        }),
+    )
 }
 
 /// Greedy point merging on a hash grid whose cells are one tolerance wide,
@@ -144,9 +150,11 @@ fn snapped_segments(pattern: &CreasePattern, snap: &mut VertexSnap) -> Vec<Segme
     let mut merged: HashMap<usize, usize> = HashMap::new();
     let mut segments = Vec::with_capacity(pattern.edges.len());
     for (source, edge) in pattern.edges.iter().enumerate() {
-        let v = edge
-            .v
-            .map(|i| *merged.entry(i).or_insert_with(|| snap.snap(pattern.vertices[i])));
+        let v = edge.v.map(|i| {
+            *merged
+                .entry(i)
+                .or_insert_with(|| snap.snap(pattern.vertices[i]))
+        });
         if v[0] != v[1] {
             segments.push(Segment { v, source });
         }
@@ -234,9 +242,16 @@ fn side(s: &Segment, p: DVec2, points: &[DVec2]) -> f64 {
 /// The crossing point of two segments whose ends lie clearly on opposite
 /// sides of each other's lines.
 fn crossing(s: &Segment, t: &Segment, points: &[DVec2], tolerance: f64) -> Option<DVec2> {
-    let opposite = |x: f64, y: f64| (x > tolerance && y < -tolerance) || (x < -tolerance && y > tolerance);
-    let (d0, d1) = (side(s, points[t.v[0]], points), side(s, points[t.v[1]], points));
-    let (e0, e1) = (side(t, points[s.v[0]], points), side(t, points[s.v[1]], points));
+    let opposite =
+        |x: f64, y: f64| (x > tolerance && y < -tolerance) || (x < -tolerance && y > tolerance);
+    let (d0, d1) = (
+        side(s, points[t.v[0]], points),
+        side(s, points[t.v[1]], points),
+    );
+    let (e0, e1) = (
+        side(t, points[s.v[0]], points),
+        side(t, points[s.v[1]], points),
+    );
     if !opposite(d0, d1) || !opposite(e0, e1) {
         return None;
     }
@@ -344,7 +359,10 @@ mod tests {
         ]);
         assert_eq!(g.vertices.len(), 5);
         assert_eq!(g.edges.len(), 4);
-        let centre = g.vertices.iter().position(|p| p.distance(DVec2::ONE) < 1e-12);
+        let centre = g
+            .vertices
+            .iter()
+            .position(|p| p.distance(DVec2::ONE) < 1e-12);
         let centre = centre.unwrap();
         assert!(g.edges.iter().all(|e| e.v.contains(&centre)));
     }
@@ -372,7 +390,12 @@ mod tests {
         let mut kinds: Vec<_> = g
             .edges
             .iter()
-            .map(|e| (g.vertices[e.v[0]].x.min(g.vertices[e.v[1]].x) as i32, e.assignment))
+            .map(|e| {
+                (
+                    g.vertices[e.v[0]].x.min(g.vertices[e.v[1]].x) as i32,
+                    e.assignment,
+                )
+            })
             .collect();
         kinds.sort_by_key(|k| k.0);
         assert_eq!(
@@ -401,12 +424,18 @@ mod tests {
     fn bad_indices_and_coordinates_are_errors() {
         let mut p = pattern(&[(Assignment::Valley, [0.0, 0.0, 1.0, 0.0])]);
         p.edges[0].v[1] = 9;
-        assert!(planarize(&p, DEFAULT_TOLERANCE).unwrap_err().reason.contains("out of range"));
+        assert!(planarize(&p, DEFAULT_TOLERANCE)
+            .unwrap_err()
+            .reason
+            .contains("out of range"));
         p.edges[0].v[1] = 1;
         p.vertices[1].x = f64::NAN;
         assert!(planarize(&p, DEFAULT_TOLERANCE).is_err());
         p.vertices[1].x = f64::MAX;
         p.vertices[0].x = -f64::MAX;
-        assert!(planarize(&p, DEFAULT_TOLERANCE).unwrap_err().reason.contains("too large"));
+        assert!(planarize(&p, DEFAULT_TOLERANCE)
+            .unwrap_err()
+            .reason
+            .contains("too large"));
     }
 }

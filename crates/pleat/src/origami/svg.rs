@@ -53,16 +53,22 @@ pub fn parse_svg(text: &str) -> Result<SvgImport, PatternError> {
     };
     let doc = Document::parse_with_options(text, options).map_err(|e| {
         let pos = e.pos();
+        let message = e.to_string();
+        let suffix = format!(" at {}:{}", pos.row, pos.col);
+        let reason = message.strip_suffix(&suffix).unwrap_or(&message);
         PatternError::new(
             format!("line {}, column {}", pos.row, pos.col),
-            format!("bad XML: {e}"),
+            format!("bad XML: {reason}"),
         )
     })?;
     let root = doc.root_element();
     if root.tag_name().name() != "svg" {
         return Err(PatternError::new(
             "top level",
-            format!("expected an <svg> root element, found <{}>", root.tag_name().name()),
+            format!(
+                "expected an <svg> root element, found <{}>",
+                root.tag_name().name()
+            ),
         ));
     }
     let mut reader = Reader::default();
@@ -159,9 +165,12 @@ impl Reader {
         if points.iter().any(|p| !p.is_finite()) {
             return Err("coordinates overflow after the transform".into());
         }
-        let closing = subpath.closed.then(|| [points[points.len() - 1], points[0]]);
+        let closing = subpath
+            .closed
+            .then(|| [points[points.len() - 1], points[0]]);
         for pair in points.windows(2).map(|w| [w[0], w[1]]).chain(closing) {
-            self.builder.segment(pair[0], pair[1], assignment, fold_angle);
+            self.builder
+                .segment(pair[0], pair[1], assignment, fold_angle);
             self.segments += 1;
         }
         Ok(())
@@ -324,7 +333,9 @@ fn shape(node: Node) -> Result<Option<Vec<Subpath>>, String> {
         }
         _ => return Ok(None),
     };
-    Ok(Some(shape.into_iter().filter(|s| s.points.len() > 1).collect()))
+    Ok(Some(
+        shape.into_iter().filter(|s| s.points.len() > 1).collect(),
+    ))
 }
 
 fn rect(node: Node) -> Result<Vec<Subpath>, String> {
@@ -357,7 +368,9 @@ fn length(node: Node, name: &str) -> Result<f64, String> {
     let number = trimmed.strip_suffix("px").unwrap_or(trimmed);
     match number.parse::<f64>() {
         Ok(v) if v.is_finite() => Ok(v),
-        _ => Err(format!("{name}: bad length '{text}' (expected a number in user units)")),
+        _ => Err(format!(
+            "{name}: bad length '{text}' (expected a number in user units)"
+        )),
     }
 }
 
@@ -393,7 +406,11 @@ mod tests {
         assert_eq!(count(p, Assignment::Flat), 1);
         assert_eq!(count(p, Assignment::Cut), 1);
         assert_eq!(import.warnings.len(), 1);
-        assert!(import.warnings[0].contains("#808080"), "{:?}", import.warnings);
+        assert!(
+            import.warnings[0].contains("#808080"),
+            "{:?}",
+            import.warnings
+        );
     }
 
     #[test]
@@ -433,7 +450,11 @@ mod tests {
     #[test]
     fn errors_name_line_and_reason() {
         let e = parse_svg(&svg(r#"<path d="M0,0 C1,1 2,2 3,3" stroke="red"/>"#)).unwrap_err();
-        assert!(e.to_string().starts_with("line 5: <path> d: curve command 'C'"), "{e}");
+        assert!(
+            e.to_string()
+                .starts_with("line 5: <path> d: curve command 'C'"),
+            "{e}"
+        );
         let e = parse_svg(&svg(r#"<line x1="a" stroke="red"/>"#)).unwrap_err();
         assert_eq!(
             e.to_string(),
@@ -446,6 +467,9 @@ mod tests {
         let e = parse_svg("<svg><line").unwrap_err();
         assert!(e.to_string().starts_with("line 1, column "), "{e}");
         let e = parse_svg("<html/>").unwrap_err();
-        assert_eq!(e.to_string(), "top level: expected an <svg> root element, found <html>");
+        assert_eq!(
+            e.to_string(),
+            "top level: expected an <svg> root element, found <html>"
+        );
     }
 }
