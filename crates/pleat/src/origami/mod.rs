@@ -13,7 +13,7 @@ pub mod planar;
 pub mod sheet;
 pub mod svg;
 
-//pub use builtin::builtin;
+pub use builtin::{builtin, Kresling, MiuraOri, BUILTIN_NAMES};
 pub use cp::parse_cp;
 pub use fold::{parse_fold, to_fold_json};
 pub use pattern::{
