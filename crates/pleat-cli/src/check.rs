@@ -80,7 +80,7 @@ fn scene_summary(path: &Path) -> Result<String, String> {
 fn pattern_summary(path: &Path) -> Result<String, String> {
     let (pattern, warnings) = load_pattern_with_warnings(path).map_err(|e| e.to_string())?;
     let sheet = Sheet::from_pattern(&pattern, &SheetOptions::default())
-        .map_err(|e| e.with_file(&path.display().to_string()).to_string())?;
+        .map_err(|e| e.with_file(path.display().to_string()).to_string())?;
     let mut line = format!(
         "crease pattern, {} vertices, {} triangles, {} creases",
         sheet.positions.len(),
