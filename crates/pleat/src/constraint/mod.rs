@@ -10,11 +10,13 @@
 pub mod attachment;
 pub mod bending;
 pub mod distance;
+pub mod hinge;
 pub mod isometric_bending;
 pub mod tether;
 
 pub use attachment::Attachment;
 pub use bending::DihedralBending;
 pub use distance::DistanceConstraint;
+pub use hinge::OrigamiHinge;
 pub use isometric_bending::IsometricBending;
 pub use tether::Tether;

@@ -1,0 +1,204 @@
+//! Origami hinge: the dihedral fold angle of a triangle pair driven to a
+//! target, `C = phi - target_angle`, with `target_angle = c * full_angle`
+//! for the fold progress `c`, capped at [`MAX_TARGET_ANGLE`].
+//!
+//! The angle and its exact gradient are those of dihedral bending
+//! ([`dihedral_angle_simd`], valley positive). `atan2` wraps at +-pi, so a
+//! hinge folded past 180 degrees would read as folded the other way and be
+//! driven all the way round: each hinge keeps the continuous angle it had at
+//! the end of the last substep and reads the new angle as the nearest
+//! branch to it ([`OrigamiHinge::unwrap`]); 179 degrees going to 181 reads
+//! 181, not -179, and flat folds can be approached from either side.
+//! The tracked angle saturates at 225 degrees either way.
+
+use super::bending::{dihedral_angle_simd, project_four};
+use crate::solver::parallel::{Constraint, SharedPositions};
+use glam::{Vec3, Vec3A};
+use std::f32::consts::{PI, TAU};
+
+/// Largest fold angle a hinge is driven to (radians): 178 degrees, so that
+/// the layers of a flat fold meet at a small angle instead of lying in one
+/// plane, where a thickness-free sheet cannot tell which layer is on top.
+pub const MAX_TARGET_ANGLE: f32 = 178.0 * PI / 180.0;
+
+/// Largest tracked fold angle (225 degrees): wings that have passed
+/// through each other further than that are driven back the way they came
+/// rather than by an ever larger correction.
+const MAX_TRACKED_ANGLE: f32 = 1.25 * PI;
+
+/// A fold line of a crease pattern, or a facet diagonal kept flat.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OrigamiHinge {
+    /// Shared edge `v[0], v[1]`, wings `v[2]`, `v[3]` (see [`crate::mesh::TrianglePair`]).
+    pub v: [u32; 4],
+    /// Fold angle at full progress `c = 1` (radians, valley positive).
+    pub full_angle: f32,
+    /// Fold angle the hinge is driven to now (radians).
+    pub target_angle: f32,
+    /// Inverse stiffness (rad^2 / J).
+    pub compliance: f32,
+    /// Continuous fold angle at the end of the last substep (radians, may
+    /// leave `(-pi, pi]`).
+    pub angle: f32,
+}
+
+impl OrigamiHinge {
+    /// A hinge at progress 0 whose tracked angle starts from `positions`.
+    pub fn new(v: [u32; 4], full_angle: f32, compliance: f32, positions: &[Vec3]) -> Self {
+        let mut hinge = OrigamiHinge {
+            v,
+            full_angle,
+            target_angle: 0.0,
+            compliance,
+            angle: 0.0,
+        };
+        hinge.track(|i| positions[i as usize]);
+        hinge
+    }
+
+    /// Drives the hinge to `c` times its full fold angle.
+    pub fn set_progress(&mut self, c: f32) {
+        self.target_angle = Self::target(self.full_angle, c);
+    }
+
+    /// `c * full_angle`, capped at [`MAX_TARGET_ANGLE`] either way.
+    pub fn target(full_angle: f32, c: f32) -> f32 {
+        (c * full_angle).clamp(-MAX_TARGET_ANGLE, MAX_TARGET_ANGLE)
+    }
+
+    /// The continuous angle for an `atan2` reading `phi`: the branch
+    /// `phi + 2 pi k` nearest the tracked angle.
+    #[inline]
+    pub fn unwrap(&self, phi: f32) -> f32 {
+        self.angle + (phi - self.angle + PI).rem_euclid(TAU) - PI
+    }
+
+    /// Updates the tracked angle to the configuration `position` gives
+    /// (unchanged for a degenerate pair), within +-[`MAX_TRACKED_ANGLE`].
+    pub fn track(&mut self, position: impl Fn(u32) -> Vec3) {
+        if let Some((phi, _)) = dihedral_angle_simd(self.v.map(|i| Vec3A::from(position(i)))) {
+            self.angle = self
+                .unwrap(phi)
+                .clamp(-MAX_TRACKED_ANGLE, MAX_TRACKED_ANGLE);
+        }
+    }
+
+    /// `C` and its gradient with respect to the four positions.
+    #[inline]
+    pub fn evaluate(&self, p: [Vec3A; 4]) -> Option<(f32, [Vec3A; 4])> {
+        dihedral_angle_simd(p).map(|(phi, grad)| (self.unwrap(phi) - self.target_angle, grad))
+    }
+}
+
+impl Constraint for OrigamiHinge {
+    fn particles(&self) -> &[u32] {
+        &self.v
+    }
+
+    #[inline]
+    fn project(&self, lambda: &mut f32, x: SharedPositions, inv_mass: &[f32], inv_dt2: f32) {
+        if let Some(c_grad) = self.evaluate(self.v.map(|i| Vec3A::from(x.get(i)))) {
+            project_four(
+                self.v,
+                self.compliance,
+                c_grad,
+                lambda,
+                x,
+                inv_mass,
+                inv_dt2,
+            );
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::constraint::bending::tests::finite_difference;
+
+    /// Edge along x; the first wing lifted by `fold` radians about it, the
+    /// second wing flat: the valley fold angle is `fold`.
+    fn pair(fold: f32) -> [Vec3; 4] {
+        [
+            Vec3::ZERO,
+            Vec3::X,
+            Vec3::new(0.4, 0.8 * fold.cos(), 0.8 * fold.sin()),
+            Vec3::new(0.6, -0.9, 0.0),
+        ]
+    }
+
+    fn hinge_at(fold: f32) -> OrigamiHinge {
+        OrigamiHinge::new([0, 1, 2, 3], PI, 0.0, &pair(fold))
+    }
+
+    #[test]
+    fn pair_folds_by_the_given_angle() {
+        for fold in [0.3, -1.2, 2.9] {
+            assert!((hinge_at(fold).angle - fold).abs() < 1e-5);
+        }
+    }
+
+    #[test]
+    fn gradient_matches_finite_differences_across_pi() {
+        // Folds near +-pi: the raw atan2 jumps there, the unwrapped angle does not.
+        for fold in [0.5, 2.0, 3.1, PI, 3.2, -3.13, -0.8] {
+            let mut h = hinge_at(fold);
+            h.set_progress(0.9);
+            let p = pair(fold);
+            let (c, grad) = h.evaluate(p.map(Vec3A::from)).unwrap();
+            assert!((c - (h.angle - 0.9 * PI)).abs() < 1e-5);
+            let fd = finite_difference(&p, |q| {
+                let q = [q[0], q[1], q[2], q[3]].map(Vec3A::from);
+                h.evaluate(q).unwrap().0
+            });
+            for k in 0..4 {
+                let g = Vec3::from(grad[k]);
+                let err = (fd[k] - g).length() / g.length().max(1.0);
+                assert!(err < 2e-3, "fold {fold}, vertex {k}: fd {} vs {g}", fd[k]);
+            }
+        }
+    }
+
+    #[test]
+    fn tracked_angle_unwraps_across_pi() {
+        let mut h = hinge_at(179f32.to_radians());
+        for deg in [179.5f32, 180.0, 180.5, 181.0] {
+            h.track(|i| pair(deg.to_radians())[i as usize]);
+        }
+        assert!((h.angle.to_degrees() - 181.0).abs() < 1e-3, "{}", h.angle);
+        // And back, through pi, to the other side of zero.
+        for deg in (0..=36).rev().map(|k| k as f32 * 5.0).chain([-10.0]) {
+            h.track(|i| pair(deg.to_radians())[i as usize]);
+        }
+        assert!((h.angle.to_degrees() + 10.0).abs() < 1e-3, "{}", h.angle);
+        // Spun on through -180 and beyond, it saturates.
+        for deg in (2..=36).map(|k| -(k as f32) * 10.0) {
+            h.track(|i| pair(deg.to_radians())[i as usize]);
+        }
+        assert_eq!(h.angle, -MAX_TRACKED_ANGLE);
+    }
+
+    #[test]
+    fn projection_reaches_a_target_past_pi_from_below() {
+        let mut x = pair(170f32.to_radians()).to_vec();
+        let mut h = OrigamiHinge::new([0, 1, 2, 3], 0.0, 0.0, &x);
+        h.target_angle = 185f32.to_radians();
+        let w = [1.0; 4];
+        for _ in 0..30 {
+            let mut lambda = 0.0;
+            h.project(&mut lambda, SharedPositions::new(&mut x), &w, 1.0);
+            h.track(|i| x[i as usize]);
+        }
+        assert!((h.angle.to_degrees() - 185.0).abs() < 0.1, "{}", h.angle);
+    }
+
+    #[test]
+    fn progress_scales_the_full_angle() {
+        let mut h = hinge_at(0.0);
+        h.full_angle = -PI;
+        h.set_progress(0.25);
+        assert_eq!(h.target_angle, -PI / 4.0);
+        h.set_progress(1.0);
+        assert_eq!(h.target_angle, -MAX_TARGET_ANGLE);
+    }
+}
