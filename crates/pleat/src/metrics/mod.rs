@@ -1,6 +1,8 @@
-//! Quality figures of a simulated state: stretch, penetrations, self-intersections.
+//! Quality figures of a simulated state: stretch, penetrations,
+//! self-intersections and facet strain.
 
 pub mod intersections;
+pub mod strain;
 
 use crate::model::Model;
 use crate::particles::Particles;
