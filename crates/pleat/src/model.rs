@@ -5,6 +5,7 @@
 use crate::collide::Motion;
 use crate::material::Material;
 use crate::mesh::{lumped_masses, Mesh, Topology};
+use crate::origami::Paper;
 use glam::Vec3;
 use std::ops::Range;
 
@@ -28,6 +29,9 @@ pub struct ClothPart {
     pub offset: u32,
     /// Long-range attachments from this cloth's pins.
     pub tethers: bool,
+    /// For paper (a crease pattern, see [`Model::add_paper`]): the hinges
+    /// that replace the material's bending.
+    pub paper: Option<Paper>,
 }
 
 impl ClothPart {
@@ -103,6 +107,7 @@ impl Model {
             material,
             offset,
             tethers,
+            paper: None,
         });
     }
 

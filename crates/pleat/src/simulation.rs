@@ -3,6 +3,7 @@
 
 use crate::metrics::Metrics;
 use crate::model::Model;
+use crate::origami::FoldRamp;
 use crate::particles::Particles;
 use crate::solver::{self, Solver, SolverSettings, StageTimes};
 use crate::world::World;
@@ -13,6 +14,11 @@ pub struct Simulation {
     pub particles: Particles,
     pub settings: SolverSettings,
     pub stages: StageTimes,
+    /// Fold progress animated over the first frames (origami); `None`
+    /// leaves it where [`Simulation::set_fold_progress`] put it.
+    pub fold_ramp: Option<FoldRamp>,
+    fold_progress: f32,
+    frames_stepped: u32,
     solver: Box<dyn Solver>,
 }
 
@@ -26,15 +32,34 @@ impl Simulation {
             particles,
             settings,
             stages: StageTimes::default(),
+            fold_ramp: None,
+            fold_progress: 0.0,
+            frames_stepped: 0,
             solver,
         }
     }
 
     /// Advances by one frame of `frame_dt` seconds.
     pub fn step(&mut self, frame_dt: f32) {
+        if let Some(ramp) = self.fold_ramp {
+            self.set_fold_progress(ramp.at(self.frames_stepped + 1));
+        }
         self.solver
             .step(&mut self.particles, &self.world, frame_dt, &mut self.stages);
         self.world.time += frame_dt;
+        self.frames_stepped += 1;
+    }
+
+    /// Sets the fold progress `c` (clamped to `[0, 1]`): every origami
+    /// hinge is driven to `c` times its full fold angle, without rebuilding.
+    pub fn set_fold_progress(&mut self, c: f32) {
+        self.fold_progress = if c.is_nan() { 0.0 } else { c.clamp(0.0, 1.0) };
+        self.solver.set_fold_progress(self.fold_progress);
+    }
+
+    /// The fold progress last set.
+    pub fn fold_progress(&self) -> f32 {
+        self.fold_progress
     }
 
     pub fn constraint_count(&self) -> usize {

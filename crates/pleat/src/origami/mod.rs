@@ -1,12 +1,15 @@
-//! Origami: crease-pattern importers, the triangulated sheet and built-in patterns.
+//! Origami: crease-pattern importers, the triangulated sheet, built-in
+//! patterns and folding.
 //!
 //! A pattern file (ORIPA `.cp`, FOLD `.fold`, Origami Simulator `.svg`) is read
 //! into a [`CreasePattern`], cleaned into a planar graph ([`planar`]) and
-//! triangulated into a [`Sheet`] whose creases are hinges.
+//! triangulated into a [`Sheet`] whose creases are hinges; [`folding`] adds
+//! the sheet to a model as paper and drives its hinges by the fold progress.
 
 pub mod builtin;
 pub mod cp;
 pub mod fold;
+pub mod folding;
 mod path_data;
 pub mod pattern;
 pub mod planar;
@@ -16,6 +19,10 @@ pub mod svg;
 pub use builtin::{builtin, Kresling, MiuraOri, BUILTIN_NAMES};
 pub use cp::parse_cp;
 pub use fold::{parse_fold, to_fold_json};
+pub use folding::{
+    hinge_states, paper_material, paper_simulation, paper_solver_settings, FoldAngleErrors,
+    FoldMetrics, FoldRamp, HingeState, Paper, PaperStiffness,
+};
 pub use pattern::{
     load_pattern, load_pattern_with_warnings, Assignment, CreasePattern, PatternEdge, PatternError,
 };

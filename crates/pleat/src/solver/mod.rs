@@ -82,6 +82,10 @@ pub trait Solver: Send {
         frame_dt: f32,
         stages: &mut StageTimes,
     );
+
+    /// Drives every origami hinge to `c` times its full fold angle; solvers
+    /// without hinges ignore it.
+    fn set_fold_progress(&mut self, _c: f32) {}
 }
 
 /// Builds the solver that `settings` name for `model`.

@@ -8,7 +8,7 @@ use super::parallel::ColoredConstraints;
 use super::{SolverKind, SolverSettings, StageTimes};
 use crate::collide::{project_contacts, ColliderPose};
 use crate::constraint::{
-    Attachment, DihedralBending, DistanceConstraint, IsometricBending, Tether,
+    Attachment, DihedralBending, DistanceConstraint, IsometricBending, OrigamiHinge, Tether,
 };
 use crate::force::WindForces;
 use crate::material::BendingModel;
@@ -28,6 +28,8 @@ pub struct Xpbd {
     distance: ColoredConstraints<DistanceConstraint>,
     bending: ColoredConstraints<DihedralBending>,
     isometric: ColoredConstraints<IsometricBending>,
+    /// Origami hinges of paper parts.
+    hinges: ColoredConstraints<OrigamiHinge>,
     tethers: ColoredConstraints<Tether>,
     /// Attachments with compliance: solved with the other constraints.
     soft_attachments: ColoredConstraints<Attachment>,
@@ -50,20 +52,29 @@ impl Xpbd {
         let mut distance = Vec::new();
         let mut bending = Vec::new();
         let mut isometric = Vec::new();
+        let mut hinges = Vec::new();
         let mut tethers = Vec::new();
         for cloth in &model.cloths {
             distance.extend(edge_constraints(cloth, &model.rest));
-            match cloth.material.bending {
-                BendingModel::Dihedral => bending.extend(dihedral_constraints(cloth, &model.rest)),
-                BendingModel::Isometric => {
-                    for d in dihedral_constraints(cloth, &model.rest) {
-                        match isometric_if_flat(&d, &model.rest) {
-                            Some(c) => isometric.push(c),
-                            None => bending.push(d),
+            if let Some(paper) = &cloth.paper {
+                hinges.extend(paper.hinge_constraints(cloth, &model.rest));
+            } else {
+                match cloth.material.bending {
+                    BendingModel::Dihedral => {
+                        bending.extend(dihedral_constraints(cloth, &model.rest))
+                    }
+                    BendingModel::Isometric => {
+                        for d in dihedral_constraints(cloth, &model.rest) {
+                            match isometric_if_flat(&d, &model.rest) {
+                                Some(c) => isometric.push(c),
+                                None => bending.push(d),
+                            }
                         }
                     }
+                    BendingModel::SkipOne => {
+                        distance.extend(skip_one_constraints(cloth, &model.rest))
+                    }
                 }
-                BendingModel::SkipOne => distance.extend(skip_one_constraints(cloth, &model.rest)),
             }
             if cloth.tethers {
                 let pins = model.hard_pins_of(cloth);
@@ -101,6 +112,7 @@ impl Xpbd {
             distance: ColoredConstraints::new(distance, n),
             bending: ColoredConstraints::new(bending, n),
             isometric: ColoredConstraints::new(isometric, n),
+            hinges: ColoredConstraints::new(hinges, n),
             tethers: ColoredConstraints::new(tethers, n),
             soft_attachments: ColoredConstraints::new(soft, n),
             hard_attachments: hard,
@@ -164,14 +176,22 @@ impl Xpbd {
         self.distance.reset_lambda();
         self.bending.reset_lambda();
         self.isometric.reset_lambda();
+        self.hinges.reset_lambda();
         self.soft_attachments.reset_lambda();
         for _ in 0..self.settings.iterations {
+            self.hinges.solve(&mut p.x, &p.inv_mass, inv_dt2);
             self.distance.solve(&mut p.x, &p.inv_mass, inv_dt2);
             self.bending.solve(&mut p.x, &p.inv_mass, inv_dt2);
             self.isometric.solve(&mut p.x, &p.inv_mass, inv_dt2);
             self.soft_attachments.solve(&mut p.x, &p.inv_mass, inv_dt2);
             self.tethers.solve(&mut p.x, &p.inv_mass, inv_dt2);
         }
+        let x = &p.x;
+        self.hinges
+            .items
+            .par_iter_mut()
+            .with_min_len(2048)
+            .for_each(|h| h.track(|i| x[i as usize]));
     }
 }
 
@@ -184,9 +204,16 @@ impl super::Solver for Xpbd {
         self.distance.len()
             + self.bending.len()
             + self.isometric.len()
+            + self.hinges.len()
             + self.tethers.len()
             + self.soft_attachments.len()
             + self.hard_attachments.len()
+    }
+
+    fn set_fold_progress(&mut self, c: f32) {
+        for h in &mut self.hinges.items {
+            h.set_progress(c);
+        }
     }
 
     fn step(
