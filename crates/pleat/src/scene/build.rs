@@ -2,12 +2,13 @@
 //! built or loaded, pins resolved to vertices, colliders placed.
 
 use super::{
-    ClothSpec, ColliderSpec, Corner, MeshSpec, MotionSpec, PinSpec, Scene, SceneError, SceneErrors,
-    ShapeSpec, Side,
+    ClothSpec, ColliderSpec, Corner, MeshSpec, MotionSpec, PatternMeshSpec, PinSpec, Scene,
+    SceneError, SceneErrors, ShapeSpec, Side,
 };
 use crate::collide::{Collider, Motion, Shape};
 use crate::mesh::{obj::load_obj, GridSpec, Mesh};
 use crate::model::{Model, Pin};
+use crate::origami::{builtin, load_pattern, PatternError, Sheet, SheetOptions};
 use crate::simulation::Simulation;
 use crate::world::World;
 use glam::{EulerRot, Quat, Vec3};
@@ -18,7 +19,12 @@ impl Scene {
     /// and `file` names the scene in errors.
     pub fn build(&self, base_dir: &Path, file: &str) -> Result<Simulation, SceneErrors> {
         let (model, world) = self.model(base_dir, file)?;
-        Ok(Simulation::new(model, world, self.solver))
+        let folds = model.cloths.iter().any(|c| c.paper.is_some());
+        let mut sim = Simulation::new(model, world, self.solver);
+        if folds {
+            sim.fold_ramp = Some(self.fold.unwrap_or_default().ramp());
+        }
+        Ok(sim)
     }
 
     /// The model and world of this scene, without building a solver.
@@ -27,15 +33,26 @@ impl Scene {
         let mut errors = Vec::new();
         for (i, cloth) in self.cloths.iter().enumerate() {
             let path = format!("cloths[{i}]");
+            let name = if cloth.name.is_empty() {
+                format!("cloth{i}")
+            } else {
+                cloth.name.clone()
+            };
+            if let MeshSpec::Pattern(spec) = &cloth.mesh {
+                match pattern_sheet(spec, base_dir) {
+                    Ok(sheet) => model.add_paper(&name, &sheet, cloth.material, spec.stiffness),
+                    Err(e) => errors.push(SceneError {
+                        file: file.into(),
+                        path: format!("{path}.mesh.pattern"),
+                        reason: e.to_string(),
+                    }),
+                }
+                continue;
+            }
             match cloth_mesh(cloth, base_dir)
                 .and_then(|(mesh, grid)| Ok((pins(cloth, &mesh, grid.as_ref())?, mesh)))
             {
                 Ok((pins, mesh)) => {
-                    let name = if cloth.name.is_empty() {
-                        format!("cloth{i}")
-                    } else {
-                        cloth.name.clone()
-                    };
                     model.add_cloth(&name, mesh, cloth.material, &pins, cloth.tethers);
                 }
                 Err((sub, reason)) => errors.push(SceneError {
@@ -82,7 +99,27 @@ fn cloth_mesh(cloth: &ClothSpec, base_dir: &Path) -> Result<(Mesh, Option<GridSp
             }
             Ok((mesh, None))
         }
+        MeshSpec::Pattern(_) => unreachable!("pattern cloths are built by add_paper"),
     }
+}
+
+/// The sheet of a pattern cloth, placed at its centre.
+fn pattern_sheet(spec: &PatternMeshSpec, base_dir: &Path) -> Result<Sheet, PatternError> {
+    let pattern = match (&spec.path, &spec.builtin) {
+        (Some(path), _) => load_pattern(base_dir.join(path))?,
+        (None, Some(name)) => builtin(name)
+            .ok_or_else(|| PatternError::new("builtin", format!("unknown pattern '{name}'")))?,
+        (None, None) => return Err(PatternError::new("", "give either path or builtin")),
+    };
+    let options = SheetOptions {
+        size: spec.size as f64,
+        max_edge: spec.max_edge.map(f64::from),
+    };
+    let mut sheet = Sheet::from_pattern(&pattern, &options)?;
+    for p in &mut sheet.positions {
+        *p += spec.center;
+    }
+    Ok(sheet)
 }
 
 /// Resolves pin groups to cloth-local vertices (each vertex pinned once, first group wins).

@@ -4,6 +4,7 @@ use crate::collide::Friction;
 use crate::force::Wind;
 use crate::material::Material;
 use crate::mesh::GridOrientation;
+use crate::origami::{FoldRamp, PaperStiffness};
 use crate::solver::SolverSettings;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
@@ -29,6 +30,39 @@ pub struct Scene {
     pub colliders: Vec<ColliderSpec>,
     #[serde(default)]
     pub wind: Option<Wind>,
+    /// How pattern cloths fold; defaults apply when absent.
+    #[serde(default)]
+    pub fold: Option<FoldSpec>,
+}
+
+/// The fold progress of a scene's pattern cloths: ramped linearly from 0
+/// to `progress` over the first `frames_to_fold` frames, then held.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct FoldSpec {
+    /// Fold progress in `[0, 1]`: each crease folds to this fraction of its
+    /// full angle.
+    pub progress: f32,
+    /// Frames over which the progress rises from 0; 0 sets it at once.
+    pub frames_to_fold: u32,
+}
+
+impl Default for FoldSpec {
+    fn default() -> Self {
+        FoldSpec {
+            progress: 1.0,
+            frames_to_fold: 120,
+        }
+    }
+}
+
+impl FoldSpec {
+    pub fn ramp(&self) -> FoldRamp {
+        FoldRamp {
+            progress: self.progress,
+            frames: self.frames_to_fold,
+        }
+    }
 }
 
 fn default_frames() -> u32 {
@@ -63,6 +97,8 @@ pub struct ClothSpec {
 pub enum MeshSpec {
     Grid(GridMeshSpec),
     Obj(ObjMeshSpec),
+    /// A crease pattern, folded as paper.
+    Pattern(PatternMeshSpec),
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -101,6 +137,30 @@ pub struct ObjMeshSpec {
 
 fn unit_scale() -> f32 {
     1.0
+}
+
+/// A crease pattern from a file or a built-in, triangulated into a sheet in
+/// the x-y plane whose creases are hinges. Give `path` or `builtin`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PatternMeshSpec {
+    /// A `.cp`, `.fold` or `.svg` file, relative to the scene file's folder.
+    #[serde(default)]
+    pub path: Option<String>,
+    /// The name of a built-in pattern, such as `miura-ori`.
+    #[serde(default)]
+    pub builtin: Option<String>,
+    /// Longest side of the sheet (m).
+    #[serde(default = "unit_scale")]
+    pub size: f32,
+    /// Target edge length of the triangulation (m); absent keeps only the
+    /// pattern's own vertices.
+    #[serde(default)]
+    pub max_edge: Option<f32>,
+    #[serde(default)]
+    pub center: Vec3,
+    #[serde(default)]
+    pub stiffness: PaperStiffness,
 }
 
 /// A group of pinned vertices, chosen by grid corner, grid edge or index.

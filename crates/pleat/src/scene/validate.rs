@@ -1,8 +1,11 @@
 //! Checks of values that parse but make no sense: zero resolutions, negative
 //! densities, zero radii. Every error found is reported, each with its path.
 
-use super::{ClothSpec, ColliderSpec, MeshSpec, Scene, SceneError, ShapeSpec};
+use super::{
+    ClothSpec, ColliderSpec, FoldSpec, MeshSpec, PatternMeshSpec, Scene, SceneError, ShapeSpec,
+};
 use crate::force::Wind;
+use crate::origami::{builtin, BUILTIN_NAMES};
 
 /// Collects the range errors of `scene`.
 pub fn validate(scene: &Scene, file: &str) -> Vec<SceneError> {
@@ -37,6 +40,18 @@ pub fn validate(scene: &Scene, file: &str) -> Vec<SceneError> {
     }
     if let Some(wind) = &scene.wind {
         v.wind(wind);
+    }
+    if let Some(fold) = &scene.fold {
+        let has_pattern = scene
+            .cloths
+            .iter()
+            .any(|c| matches!(c.mesh, MeshSpec::Pattern(_)));
+        v.check(
+            has_pattern,
+            "fold",
+            "the scene has no pattern cloth to fold",
+        );
+        v.fold(fold);
     }
     v.errors
 }
@@ -104,6 +119,19 @@ impl Validator<'_> {
                     "must name an OBJ file",
                 );
             }
+            MeshSpec::Pattern(p) => self.pattern(&format!("{path}.mesh.pattern"), p),
+        }
+        if matches!(cloth.mesh, MeshSpec::Pattern(_)) {
+            self.check(
+                cloth.pins.is_empty(),
+                &format!("{path}.pins"),
+                "pattern cloths cannot be pinned",
+            );
+            self.check(
+                !cloth.tethers,
+                &format!("{path}.tethers"),
+                "pattern cloths have no pins to tether to",
+            );
         }
         let m = &cloth.material;
         self.positive(&format!("{path}.material.density"), m.density);
@@ -129,6 +157,46 @@ impl Validator<'_> {
                 "a pin group needs corners, edges or indices",
             );
         }
+    }
+
+    fn pattern(&mut self, path: &str, p: &PatternMeshSpec) {
+        match (&p.path, &p.builtin) {
+            (Some(file), None) => self.check(
+                !file.is_empty(),
+                &format!("{path}.path"),
+                "must name a .cp, .fold or .svg file",
+            ),
+            (None, Some(name)) => self.check(
+                builtin(name).is_some(),
+                &format!("{path}.builtin"),
+                &format!(
+                    "unknown pattern '{name}': expected one of {}",
+                    BUILTIN_NAMES.join(", ")
+                ),
+            ),
+            _ => self.check(false, path, "give either path or builtin"),
+        }
+        self.positive(&format!("{path}.size"), p.size);
+        if let Some(e) = p.max_edge {
+            self.positive(&format!("{path}.max_edge"), e);
+        }
+        self.finite3(&format!("{path}.center"), p.center.to_array());
+        self.non_negative(
+            &format!("{path}.stiffness.crease_compliance"),
+            p.stiffness.crease_compliance,
+        );
+        self.non_negative(
+            &format!("{path}.stiffness.facet_compliance"),
+            p.stiffness.facet_compliance,
+        );
+    }
+
+    fn fold(&mut self, f: &FoldSpec) {
+        self.check(
+            (0.0..=1.0).contains(&f.progress),
+            "fold.progress",
+            &format!("must be between 0 and 1, got {}", f.progress),
+        );
     }
 
     fn collider(&mut self, path: &str, c: &ColliderSpec) {
