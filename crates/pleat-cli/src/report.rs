@@ -1,9 +1,11 @@
 //! report.json: what a run measured (DESIGN.md section 5).
 
+use pleat::origami::FoldMetrics;
 use pleat::scene::Scene;
 use pleat::solver::StageTimes;
 use pleat::Simulation;
 use serde::Serialize;
+use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 #[derive(Serialize)]
@@ -28,6 +30,9 @@ pub struct Report {
     pub self_intersections: usize,
     pub collider_penetrations: usize,
     pub kinetic_energy: f32,
+    /// Fold progress, largest fold-angle errors and strain of paper parts.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub origami: Option<FoldMetrics>,
 }
 
 /// Milliseconds per frame over the run.
@@ -85,14 +90,34 @@ impl Report {
         frame_times: &[Duration],
         threads: usize,
     ) -> Self {
+        Self::named(
+            sim,
+            &scene.name,
+            scene.frame_dt(),
+            backend,
+            frame_times,
+            threads,
+        )
+    }
+
+    /// The report of `sim` after a run of frames of `frame_dt` seconds,
+    /// named `name`.
+    pub fn named(
+        sim: &Simulation,
+        name: &str,
+        frame_dt: f32,
+        backend: &str,
+        frame_times: &[Duration],
+        threads: usize,
+    ) -> Self {
         let m = sim.metrics();
         let frames = frame_times.len() as u32;
         Report {
-            scene: scene.name.clone(),
+            scene: name.into(),
             backend: backend.into(),
             solver: format!("{:?}", sim.settings.kind).to_lowercase(),
             frames,
-            frame_dt: scene.frame_dt(),
+            frame_dt,
             substeps: sim.settings.substeps,
             iterations: sim.settings.iterations,
             threads,
@@ -108,6 +133,7 @@ impl Report {
             self_intersections: m.self_intersections,
             collider_penetrations: m.collider_penetrations,
             kinetic_energy: m.kinetic_energy,
+            origami: FoldMetrics::measure(sim),
         }
     }
 
@@ -118,6 +144,24 @@ impl Report {
             self.scene, self.frames, self.particles, self.ms_per_frame.mean, self.ms_per_frame.p95, self.max_stretch, self.nan,
             self.collider_penetrations, self.self_intersections
         )
+    }
+
+    /// Writes `dir/report.json` and returns its path.
+    pub fn write(&self, dir: &Path) -> Result<PathBuf, String> {
+        let path = dir.join("report.json");
+        let json = serde_json::to_string_pretty(self).map_err(|e| e.to_string())?;
+        std::fs::write(&path, json + "\n").map_err(|e| format!("{}: {e}", path.display()))?;
+        Ok(path)
+    }
+
+    /// The origami figures on one line, when there is paper.
+    pub fn fold_line(&self) -> Option<String> {
+        let o = self.origami.as_ref()?;
+        let e = &o.max_fold_angle_error_deg;
+        Some(format!(
+            "fold progress {:.3}: largest fold-angle error {:.2} deg mountain, {:.2} deg valley, {:.2} deg flat facets; max strain {:.5}",
+            o.fold_progress, e.mountain, e.valley, e.flat, o.max_strain
+        ))
     }
 
     /// Per-stage timings, for --profile.

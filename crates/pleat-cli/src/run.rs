@@ -58,19 +58,25 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, String> {
     let every = args.every.max(1);
     let threads = args.threads;
     let frame_times = with_threads(threads, || {
-        simulate(&mut sim, &scene, every, output.as_mut())
+        simulate(
+            &mut sim,
+            &scene.name,
+            (scene.frames, scene.frame_dt()),
+            every,
+            output.as_mut(),
+        )
     })??;
     let report = Report::new(&sim, &scene, "cpu", &frame_times, rayon_threads(threads)?);
     if args.profile {
         eprintln!("{}", report.profile_text());
     }
     println!("{}", report.summary_line());
+    if let Some(line) = report.fold_line() {
+        println!("{line}");
+    }
     if let (Some(out), Some(dir)) = (output, &args.out) {
         out.finish()?;
-        let path = dir.join("report.json");
-        let json = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
-        std::fs::write(&path, json + "\n").map_err(|e| format!("{}: {e}", path.display()))?;
-        println!("wrote {}", path.display());
+        println!("wrote {}", report.write(dir)?.display());
     }
     Ok(if report.nan {
         ExitCode::FAILURE
@@ -99,26 +105,28 @@ pub fn load(path: Option<&Path>) -> Result<(Scene, String, PathBuf), pleat::scen
     }
 }
 
-/// Steps through the scene's frames, exporting every `every`-th; returns each frame's time.
-fn simulate(
+/// Steps through `frames` frames of `frame_dt` seconds, exporting every
+/// `every`-th; returns each frame's time.
+pub fn simulate(
     sim: &mut Simulation,
-    scene: &Scene,
+    name: &str,
+    (frames, frame_dt): (u32, f32),
     every: u32,
     mut output: Option<&mut Output>,
 ) -> Result<Vec<Duration>, String> {
-    let bar = ProgressBar::new(scene.frames as u64).with_style(
+    let bar = ProgressBar::new(frames as u64).with_style(
         ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} frames, {per_sec}, eta {eta}")
             .expect("valid template")
             .progress_chars("=> "),
     );
-    bar.set_message(scene.name.clone());
+    bar.set_message(name.to_string());
     if let Some(out) = output.as_deref_mut() {
         out.frame(0, sim)?;
     }
-    let mut times = Vec::with_capacity(scene.frames as usize);
-    for frame in 1..=scene.frames {
+    let mut times = Vec::with_capacity(frames as usize);
+    for frame in 1..=frames {
         let start = Instant::now();
-        sim.step(scene.frame_dt());
+        sim.step(frame_dt);
         times.push(start.elapsed());
         if let Some(out) = output.as_deref_mut() {
             if frame % every == 0 {
@@ -132,6 +140,6 @@ fn simulate(
 }
 
 /// Threads a pool of `threads` has (all cores when `None`).
-fn rayon_threads(threads: Option<usize>) -> Result<usize, String> {
+pub fn rayon_threads(threads: Option<usize>) -> Result<usize, String> {
     with_threads(threads, rayon::current_num_threads)
 }

@@ -1,0 +1,113 @@
+//! `pleat fold`: fold a crease pattern (a file or a built-in) as paper with
+//! the paper defaults, export its frames and write report.json with the
+//! largest fold-angle errors and strain.
+
+use crate::output::{Format, Output};
+use crate::report::Report;
+use crate::run::{rayon_threads, simulate};
+use crate::with_threads;
+use pleat::origami::{
+    builtin, load_pattern, paper_simulation, CreasePattern, FoldRamp, Sheet, SheetOptions,
+    BUILTIN_NAMES,
+};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+/// Frames the paper is left to settle at the final progress.
+const SETTLE_FRAMES: u32 = 60;
+
+/// Frames per second of the fold.
+const FPS: f32 = 60.0;
+
+#[derive(clap::Args)]
+pub struct FoldArgs {
+    /// A .cp, .fold or .svg file, or a built-in pattern (miura-ori,
+    /// waterbomb-base, ...).
+    pub pattern: String,
+    /// Fold progress C in [0, 1]: each crease folds to C times its angle.
+    #[arg(long, default_value_t = 1.0)]
+    pub progress: f32,
+    /// Frames over which the progress rises from 0 to C (then 60 more
+    /// frames to settle).
+    #[arg(long, default_value_t = 120)]
+    pub frames: u32,
+    /// Folder for the meshes and report.json.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Mesh format: an OBJ or PLY file per exported frame, or one animated glb.
+    #[arg(long, value_enum, default_value_t)]
+    pub format: Format,
+    /// Export every K-th frame.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+    pub every: u32,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+pub fn fold(args: &FoldArgs) -> Result<ExitCode, String> {
+    if !(0.0..=1.0).contains(&args.progress) {
+        return Err(format!(
+            "--progress must be between 0 and 1, got {}",
+            args.progress
+        ));
+    }
+    let (pattern, name) = load(&args.pattern)?;
+    let sheet = Sheet::from_pattern(&pattern, &SheetOptions::default())
+        .map_err(|e| e.with_file(args.pattern.clone()).to_string())?;
+    let ramp = FoldRamp {
+        progress: args.progress,
+        frames: args.frames,
+    };
+    let mut sim = paper_simulation(&sheet, ramp);
+    let frame_dt = 1.0 / FPS;
+    let mut output = match &args.out {
+        Some(dir) => Some(Output::create(dir, args.format, &sim, frame_dt)?),
+        None => None,
+    };
+    let frames = (args.frames + SETTLE_FRAMES, frame_dt);
+    let frame_times = with_threads(args.threads, || {
+        simulate(&mut sim, &name, frames, args.every, output.as_mut())
+    })??;
+    let threads = rayon_threads(args.threads)?;
+    let report = Report::named(&sim, &name, frame_dt, "cpu", &frame_times, threads);
+    println!(
+        "{}: {} vertices, {} triangles, {} creases",
+        name,
+        sheet.positions.len(),
+        sheet.triangles.len(),
+        sheet.crease_count()
+    );
+    println!("{}", report.summary_line());
+    if let Some(line) = report.fold_line() {
+        println!("{line}");
+    }
+    if let (Some(out), Some(dir)) = (output, &args.out) {
+        out.finish()?;
+        println!("wrote {}", report.write(dir)?.display());
+    }
+    Ok(if report.nan {
+        ExitCode::FAILURE
+    } else {
+        ExitCode::SUCCESS
+    })
+}
+
+/// The pattern `arg` names, read from a file (anything with an extension,
+/// or that exists) or built in, and a name for reports.
+fn load(arg: &str) -> Result<(CreasePattern, String), String> {
+    let path = Path::new(arg);
+    if path.extension().is_some() || path.exists() {
+        let name = path
+            .file_stem()
+            .map_or_else(|| arg.to_string(), |s| s.to_string_lossy().into_owned());
+        return Ok((load_pattern(path).map_err(|e| e.to_string())?, name));
+    }
+    let pattern = builtin(arg).ok_or_else(|| {
+        format!(
+            "'{arg}' is neither a crease-pattern file nor a built-in pattern ({})",
+            BUILTIN_NAMES.join(", ")
+        )
+    })?;
+    Ok((pattern, arg.to_string()))
+}
