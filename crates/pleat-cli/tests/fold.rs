@@ -1,0 +1,64 @@
+//! `pleat fold` end to end: a built-in folds and reports its origami
+//! figures; a malformed pattern file is refused with its name and line.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("pleat-fold-test-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn pleat(args: &[&str]) -> (bool, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_pleat"))
+        .args(args)
+        .output()
+        .expect("pleat runs");
+    let text =
+        String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr);
+    (out.status.success(), text)
+}
+
+#[test]
+fn builtin_folds_and_reports_fold_angle_errors() {
+    let dir = scratch("miura");
+    let out = dir.to_str().unwrap();
+    let (ok, text) = pleat(&[
+        "fold",
+        "miura-ori",
+        "--progress",
+        "0.5",
+        "--frames",
+        "30",
+        "--out",
+        out,
+        "--format",
+        "glb",
+    ]);
+    assert!(ok, "{text}");
+    assert!(text.contains("largest fold-angle error"), "{text}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    assert_eq!(report["frames"], 90);
+    assert_eq!(report["origami"]["fold_progress"], 0.5);
+    assert!(report["origami"]["max_fold_angle_error_deg"]["valley"].is_number());
+    assert!(report["origami"]["max_strain"].as_f64().unwrap() < 0.05);
+    assert!(dir.join("anim.glb").exists());
+}
+
+#[test]
+fn malformed_pattern_and_unknown_names_are_refused() {
+    let dir = scratch("bad");
+    let bad = dir.join("bad.cp");
+    std::fs::write(&bad, "1 0 0 1 0\n2 0 0 one 1\n").unwrap();
+    let (ok, text) = pleat(&["fold", bad.to_str().unwrap()]);
+    assert!(!ok);
+    assert!(text.contains("bad.cp") && text.contains("line 2"), "{text}");
+    let (ok, text) = pleat(&["fold", "crane"]);
+    assert!(!ok);
+    assert!(text.contains("miura-ori"), "{text}");
+    let (ok, text) = pleat(&["fold", "miura-ori", "--progress", "2"]);
+    assert!(!ok);
+    assert!(text.contains("--progress"), "{text}");
+}
