@@ -2,6 +2,7 @@
 //! good file, every error of a bad one, non-zero exit if any is bad.
 
 use pleat::mesh::obj::load_obj;
+use pleat::origami::{load_pattern_with_warnings, Sheet, SheetOptions};
 use pleat::scene::Scene;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -51,6 +52,7 @@ fn summary(path: &Path) -> Result<String, String> {
                 mesh.triangles.len()
             ))
         }
+        "cp" | "fold" | "svg" => pattern_summary(path),
         _ => Err(format!(
             "{}: unknown file type '.{ext}': expected .json, .obj, .cp, .fold or .svg",
             path.display()
@@ -73,4 +75,20 @@ fn scene_summary(path: &Path) -> Result<String, String> {
         world.colliders.len(),
         scene.frames
     ))
+}
+
+fn pattern_summary(path: &Path) -> Result<String, String> {
+    let (pattern, warnings) = load_pattern_with_warnings(path).map_err(|e| e.to_string())?;
+    let sheet = Sheet::from_pattern(&pattern, &SheetOptions::default())
+        .map_err(|e| e.with_file(path.display().to_string()).to_string())?;
+    let mut line = format!(
+        "crease pattern, {} vertices, {} triangles, {} creases",
+        sheet.positions.len(),
+        sheet.triangles.len(),
+        sheet.crease_count()
+    );
+    for w in warnings {
+        line.push_str(&format!("; warning: {w}"));
+    }
+    Ok(line)
 }

@@ -1,7 +1,7 @@
 //! report.json: what a run measured (DESIGN.md section 5).
 
 use pleat::scene::Scene;
-use pleat::solver::StageTimes;
+use pleat::solver::{SolverKind, StageTimes};
 use pleat::Simulation;
 use serde::Serialize;
 use std::time::Duration;
@@ -10,7 +10,8 @@ use std::time::Duration;
 pub struct Report {
     pub scene: String,
     pub backend: String,
-    pub solver: String,
+    /// Serialised by its scene-file name (`xpbd`, ...).
+    pub solver: SolverKind,
     pub frames: u32,
     pub frame_dt: f32,
     pub substeps: u32,
@@ -94,7 +95,7 @@ impl Report {
         Report {
             scene: scene.name.clone(),
             backend: backend.into(),
-            solver: sim.settings.kind.name().into(),
+            solver: sim.settings.kind,
             frames,
             frame_dt: scene.frame_dt(),
             substeps: sim.settings.substeps,

@@ -13,6 +13,9 @@
 use crate::solver::parallel::{Constraint, SharedPositions};
 use glam::{Vec3, Vec3A};
 
+/// Folds below this (radians) are left alone: their direction is round-off.
+const FLAT_ENOUGH: f32 = 1e-6;
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct IsometricBending {
     pub v: [u32; 4],
@@ -42,9 +45,10 @@ impl IsometricBending {
 
     /// `C` and its gradient for the four positions.
     pub fn evaluate(&self, p: [Vec3A; 4]) -> Option<(f32, Vec3A)> {
-        let b = p[0] * self.k[0] + p[1] * self.k[1] + p[2] * self.k[2] + p[3] * self.k[3];
+        // sum_i k_i = 0, so measuring from p[0] changes nothing but the round-off.
+        let b = (p[1] - p[0]) * self.k[1] + (p[2] - p[0]) * self.k[2] + (p[3] - p[0]) * self.k[3];
         let c = b.length();
-        (c > 1e-9).then(|| (c, b / c))
+        (c > FLAT_ENOUGH).then(|| (c, b / c))
     }
 }
 

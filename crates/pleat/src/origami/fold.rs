@@ -1,0 +1,418 @@
+//! FOLD importer and writer (<https://github.com/edemaine/fold>, file_spec
+//! 1 and 1.1).
+//!
+//! Read: `vertices_coords` (2D, or 3D with z = 0), `edges_vertices`,
+//! `edges_assignment` (B, M, V, F, U, C; absent means all U) and
+//! `edges_foldAngle` (degrees; the sign is taken from the assignment for M
+//! and V, `null` means none). When `edges_vertices` is absent the edges are
+//! taken from `faces_vertices` (an edge used by one face is a boundary, the
+//! others unassigned). Every other key is ignored. Errors name the JSON path.
+
+use std::collections::HashMap;
+
+use glam::DVec2;
+use serde_json::{Map, Value};
+
+use super::pattern::{Assignment, CreasePattern, PatternEdge, PatternError};
+
+/// Largest |z| accepted in `vertices_coords`, relative to the pattern size.
+const FLAT_Z_TOLERANCE: f64 = 1e-9;
+
+/// Parses the text of a FOLD file.
+pub fn parse_fold(text: &str) -> Result<CreasePattern, PatternError> {
+    let root: Value = serde_json::from_str(text).map_err(json_syntax_error)?;
+    let Value::Object(root) = root else {
+        return Err(PatternError::new(
+            "top level",
+            format!("expected a JSON object, found {}", kind(&root)),
+        ));
+    };
+    let vertices = vertices_coords(&root)?;
+    let edges = match root.get("edges_vertices") {
+        Some(value) => edges_from_edges_vertices(&root, value, vertices.len())?,
+        None => edges_from_faces(&root, vertices.len())?,
+    };
+    Ok(CreasePattern { vertices, edges })
+}
+
+fn json_syntax_error(e: serde_json::Error) -> PatternError {
+    let message = e.to_string();
+    let suffix = format!(" at line {} column {}", e.line(), e.column());
+    let reason = message.strip_suffix(&suffix).unwrap_or(&message);
+    PatternError::new(
+        format!("line {}, column {}", e.line(), e.column()),
+        format!("bad JSON: {reason}"),
+    )
+}
+
+fn kind(value: &Value) -> &'static str {
+    match value {
+        Value::Null => "null",
+        Value::Bool(_) => "a boolean",
+        Value::Number(_) => "a number",
+        Value::String(_) => "a string",
+        Value::Array(_) => "an array",
+        Value::Object(_) => "an object",
+    }
+}
+
+fn expect_array<'a>(value: &'a Value, path: &str) -> Result<&'a Vec<Value>, PatternError> {
+    value
+        .as_array()
+        .ok_or_else(|| PatternError::new(path, format!("expected an array, found {}", kind(value))))
+}
+
+fn required<'a>(root: &'a Map<String, Value>, key: &str) -> Result<&'a Value, PatternError> {
+    root.get(key)
+        .ok_or_else(|| PatternError::new(key, "missing"))
+}
+
+fn vertices_coords(root: &Map<String, Value>) -> Result<Vec<DVec2>, PatternError> {
+    let list = expect_array(required(root, "vertices_coords")?, "vertices_coords")?;
+    let mut points = Vec::with_capacity(list.len());
+    let mut heights = Vec::new();
+    for (i, entry) in list.iter().enumerate() {
+        let path = format!("vertices_coords[{i}]");
+        let coords = expect_array(entry, &path)?;
+        if !(2..=3).contains(&coords.len()) {
+            return Err(PatternError::new(
+                path,
+                format!(
+                    "expected [x, y] or [x, y, z], found {} numbers",
+                    coords.len()
+                ),
+            ));
+        }
+        let x = number(&coords[0], &format!("{path}[0]"))?;
+        let y = number(&coords[1], &format!("{path}[1]"))?;
+        if let Some(z) = coords.get(2) {
+            heights.push((number(z, &format!("{path}[2]"))?, format!("{path}[2]")));
+        }
+        points.push(DVec2::new(x, y));
+    }
+    check_flat(&points, &heights)?;
+    Ok(points)
+}
+
+/// Refuses folded states: every z must be 0 up to round-off.
+fn check_flat(points: &[DVec2], heights: &[(f64, String)]) -> Result<(), PatternError> {
+    let min = points.iter().copied().fold(DVec2::INFINITY, DVec2::min);
+    let max = points.iter().copied().fold(DVec2::NEG_INFINITY, DVec2::max);
+    let size = (max - min).length();
+    for (z, path) in heights {
+        if z.abs() > FLAT_Z_TOLERANCE * size {
+            return Err(PatternError::new(
+                path.as_str(),
+                format!("z = {z}: only flat crease patterns (z = 0) can be imported"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn number(value: &Value, path: &str) -> Result<f64, PatternError> {
+    value
+        .as_f64()
+        .filter(|v| v.is_finite())
+        .ok_or_else(|| PatternError::new(path, format!("expected a number, found {}", kind(value))))
+}
+
+fn vertex_index(value: &Value, path: &str, vertex_count: usize) -> Result<usize, PatternError> {
+    let Some(index) = value.as_u64() else {
+        return Err(PatternError::new(
+            path,
+            format!("expected a vertex index (a non-negative integer), found {value}"),
+        ));
+    };
+    usize::try_from(index)
+        .ok()
+        .filter(|&i| i < vertex_count)
+        .ok_or_else(|| {
+            PatternError::new(
+                path,
+                format!("vertex index {index} out of range (there are {vertex_count} vertices)"),
+            )
+        })
+}
+
+fn edges_from_edges_vertices(
+    root: &Map<String, Value>,
+    value: &Value,
+    vertex_count: usize,
+) -> Result<Vec<PatternEdge>, PatternError> {
+    let list = expect_array(value, "edges_vertices")?;
+    let assignments = per_edge(root, "edges_assignment", list.len())?;
+    let angles = per_edge(root, "edges_foldAngle", list.len())?;
+    let mut edges = Vec::with_capacity(list.len());
+    for (i, entry) in list.iter().enumerate() {
+        let path = format!("edges_vertices[{i}]");
+        let pair = expect_array(entry, &path)?;
+        if pair.len() != 2 {
+            return Err(PatternError::new(
+                path,
+                format!("expected 2 vertex indices, found {}", pair.len()),
+            ));
+        }
+        let v = [
+            vertex_index(&pair[0], &format!("{path}[0]"), vertex_count)?,
+            vertex_index(&pair[1], &format!("{path}[1]"), vertex_count)?,
+        ];
+        let assignment = match assignments.map(|a| &a[i]) {
+            Some(value) => assignment(value, &format!("edges_assignment[{i}]"))?,
+            None => Assignment::Unassigned,
+        };
+        let fold_angle = match angles.map(|a| &a[i]) {
+            Some(value) => fold_angle(value, &format!("edges_foldAngle[{i}]"), assignment)?,
+            None => None,
+        };
+        edges.push(PatternEdge {
+            v,
+            assignment,
+            fold_angle,
+        });
+    }
+    Ok(edges)
+}
+
+/// An optional per-edge array, which must have one entry per edge.
+fn per_edge<'a>(
+    root: &'a Map<String, Value>,
+    key: &str,
+    edge_count: usize,
+) -> Result<Option<&'a Vec<Value>>, PatternError> {
+    let Some(value) = root.get(key) else {
+        return Ok(None);
+    };
+    let list = expect_array(value, key)?;
+    if list.len() != edge_count {
+        return Err(PatternError::new(
+            key,
+            format!(
+                "has {} entries, but edges_vertices has {edge_count}",
+                list.len()
+            ),
+        ));
+    }
+    Ok(Some(list))
+}
+
+fn assignment(value: &Value, path: &str) -> Result<Assignment, PatternError> {
+    let Some(letter) = value.as_str() else {
+        return Err(PatternError::new(
+            path,
+            format!("expected an assignment letter, found {}", kind(value)),
+        ));
+    };
+    match letter {
+        "B" | "b" => Ok(Assignment::Boundary),
+        "M" | "m" => Ok(Assignment::Mountain),
+        "V" | "v" => Ok(Assignment::Valley),
+        "F" | "f" => Ok(Assignment::Flat),
+        "U" | "u" => Ok(Assignment::Unassigned),
+        "C" | "c" => Ok(Assignment::Cut),
+        other => Err(PatternError::new(
+            path,
+            format!("unknown assignment '{other}' (expected B, M, V, F, U or C)"),
+        )),
+    }
+}
+
+fn fold_angle(
+    value: &Value,
+    path: &str,
+    assignment: Assignment,
+) -> Result<Option<f64>, PatternError> {
+    if value.is_null() {
+        return Ok(None);
+    }
+    let angle = number(value, path)?;
+    Ok(Some(match assignment.fold_sign() {
+        Some(sign) => sign * angle.abs(),
+        None => angle,
+    }))
+}
+
+/// Edges of the face cycles: shared edges unassigned, the others boundary.
+fn edges_from_faces(
+    root: &Map<String, Value>,
+    vertex_count: usize,
+) -> Result<Vec<PatternEdge>, PatternError> {
+    let Some(value) = root.get("faces_vertices") else {
+        return Err(PatternError::new(
+            "edges_vertices",
+            "missing (and no faces_vertices to take the edges from)",
+        ));
+    };
+    let faces = expect_array(value, "faces_vertices")?;
+    let mut uses: HashMap<[usize; 2], usize> = HashMap::new();
+    let mut order = Vec::new();
+    for (f, face) in faces.iter().enumerate() {
+        let path = format!("faces_vertices[{f}]");
+        let cycle = expect_array(face, &path)?;
+        let indices = cycle
+            .iter()
+            .enumerate()
+            .map(|(k, v)| vertex_index(v, &format!("{path}[{k}]"), vertex_count))
+            .collect::<Result<Vec<_>, _>>()?;
+        for (k, &a) in indices.iter().enumerate() {
+            let b = indices[(k + 1) % indices.len()];
+            let key = [a.min(b), a.max(b)];
+            let count = uses.entry(key).or_insert(0);
+            if *count == 0 {
+                order.push(key);
+            }
+            *count += 1;
+        }
+    }
+    Ok(order
+        .into_iter()
+        .map(|v| PatternEdge {
+            v,
+            assignment: if uses[&v] == 1 {
+                Assignment::Boundary
+            } else {
+                Assignment::Unassigned
+            },
+            fold_angle: None,
+        })
+        .collect())
+}
+
+/// Writes a pattern as a FOLD (file_spec 1.1) crease pattern. Auxiliary
+/// lines, which FOLD has no letter for, are written as flat (`F`); missing
+/// fold angles as `null`.
+pub fn to_fold_json(pattern: &CreasePattern) -> String {
+    let coords: Vec<Value> = pattern
+        .vertices
+        .iter()
+        .map(|p| serde_json::json!([p.x, p.y]))
+        .collect();
+    let edges: Vec<Value> = pattern
+        .edges
+        .iter()
+        .map(|e| serde_json::json!(e.v))
+        .collect();
+    let letters: Vec<&str> = pattern.edges.iter().map(|e| letter(e.assignment)).collect();
+    let angles: Vec<Option<f64>> = pattern.edges.iter().map(|e| e.fold_angle).collect();
+    let fold = serde_json::json!({
+        "file_spec": 1.1,
+        "file_creator": "pleat",
+        "file_classes": ["singleModel"],
+        "frame_classes": ["creasePattern"],
+        "vertices_coords": coords,
+        "edges_vertices": edges,
+        "edges_assignment": letters,
+        "edges_foldAngle": angles,
+    });
+    // Serialising a `Value` built from finite numbers and strings cannot
+    // fail; fall back to an empty object rather than panic.
+    serde_json::to_string_pretty(&fold).unwrap_or_else(|_| String::from("{}"))
+}
+
+fn letter(assignment: Assignment) -> &'static str {
+    match assignment {
+        Assignment::Boundary => "B",
+        Assignment::Mountain => "M",
+        Assignment::Valley => "V",
+        Assignment::Flat | Assignment::Auxiliary => "F",
+        Assignment::Unassigned => "U",
+        Assignment::Cut => "C",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SQUARE: &str = r#"{
+        "file_spec": 1.1, "frame_classes": ["creasePattern"], "cpedit:page": {"xMin": 0},
+        "vertices_coords": [[0,0],[1,0],[1,1,0],[0,1]],
+        "edges_vertices": [[0,1],[1,2],[2,3],[3,0],[0,2]],
+        "edges_assignment": ["B","B","B","B","M"],
+        "edges_foldAngle": [0,0,0,0,90]
+    }"#;
+
+    #[test]
+    fn reads_square_with_signed_angle_and_ignores_unknown_keys() {
+        let p = parse_fold(SQUARE).unwrap();
+        assert_eq!(p.vertices.len(), 4);
+        assert_eq!(p.edges.len(), 5);
+        assert_eq!(p.edges[4].assignment, Assignment::Mountain);
+        assert_eq!(p.edges[4].fold_angle, Some(-90.0));
+        assert_eq!(p.edges[0].fold_angle, Some(0.0));
+    }
+
+    #[test]
+    fn absent_assignment_means_unassigned() {
+        let p =
+            parse_fold(r#"{"vertices_coords":[[0,0],[1,0]],"edges_vertices":[[0,1]]}"#).unwrap();
+        assert_eq!(p.edges[0].assignment, Assignment::Unassigned);
+    }
+
+    #[test]
+    fn faces_give_edges_when_edges_are_absent() {
+        let p = parse_fold(
+            r#"{"vertices_coords":[[0,0],[1,0],[1,1],[0,1]],"faces_vertices":[[0,1,2],[0,2,3]]}"#,
+        )
+        .unwrap();
+        assert_eq!(p.edges.len(), 5);
+        let shared = p.edges.iter().find(|e| e.v == [0, 2]).unwrap();
+        assert_eq!(shared.assignment, Assignment::Unassigned);
+        assert_eq!(
+            p.edges
+                .iter()
+                .filter(|e| e.assignment == Assignment::Boundary)
+                .count(),
+            4
+        );
+    }
+
+    fn error(text: &str) -> String {
+        parse_fold(text).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn errors_name_json_path_and_reason() {
+        assert!(error("{\"vertices_coords\": [").starts_with("line 1, column 21: bad JSON: "));
+        assert_eq!(
+            error("[1]"),
+            "top level: expected a JSON object, found an array"
+        );
+        assert_eq!(error("{}"), "vertices_coords: missing");
+        assert_eq!(
+            error(r#"{"vertices_coords":[[0,0],[1,"a"]],"edges_vertices":[]}"#),
+            "vertices_coords[1][1]: expected a number, found a string"
+        );
+        assert_eq!(
+            error(r#"{"vertices_coords":[[0,0],[1,0]],"edges_vertices":[[0,1],[1,2]]}"#),
+            "edges_vertices[1][1]: vertex index 2 out of range (there are 2 vertices)"
+        );
+        assert_eq!(
+            error(
+                r#"{"vertices_coords":[[0,0],[1,0]],"edges_vertices":[[0,1]],"edges_assignment":["X"]}"#
+            ),
+            "edges_assignment[0]: unknown assignment 'X' (expected B, M, V, F, U or C)"
+        );
+        assert_eq!(
+            error(
+                r#"{"vertices_coords":[[0,0],[1,0]],"edges_vertices":[[0,1]],"edges_assignment":[]}"#
+            ),
+            "edges_assignment: has 0 entries, but edges_vertices has 1"
+        );
+        assert_eq!(
+            error(r#"{"vertices_coords":[[0,0,1],[1,0,0]],"edges_vertices":[[0,1]]}"#),
+            "vertices_coords[0][2]: z = 1: only flat crease patterns (z = 0) can be imported"
+        );
+        assert_eq!(
+            error(r#"{"vertices_coords":{},"edges_vertices":[]}"#),
+            "vertices_coords: expected an array, found an object"
+        );
+    }
+
+    #[test]
+    fn writer_round_trips() {
+        let p = parse_fold(SQUARE).unwrap();
+        let again = parse_fold(&to_fold_json(&p)).unwrap();
+        assert_eq!(p, again);
+    }
+}

@@ -1,0 +1,457 @@
+//! The crease-pattern importers against real files made by other tools
+//! (`patterns/shared`, copied unchanged from the project's shared folder with
+//! their attribution in SOURCES.md), against malformed input, and against
+//! mutated files that must never make them panic.
+
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
+
+use pleat::origami::{
+    load_pattern, load_pattern_with_warnings, parse_cp, parse_fold, parse_svg, Assignment,
+    CreasePattern, PatternError, Sheet, SheetOptions,
+};
+
+fn shared_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../patterns/shared")
+}
+
+fn pattern_files() -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(shared_dir())
+        .expect("patterns/shared exists")
+        .map(|entry| entry.expect("readable entry").path())
+        .filter(|p| {
+            matches!(
+                p.extension().and_then(|e| e.to_str()),
+                Some("cp" | "fold" | "svg")
+            )
+        })
+        .collect();
+    files.sort();
+    files
+}
+
+fn name(path: &Path) -> String {
+    path.file_name().unwrap().to_string_lossy().into_owned()
+}
+
+/// Checks the mesh invariants every sheet must have.
+fn check_sheet(sheet: &Sheet, file: &str) {
+    assert!(!sheet.triangles.is_empty(), "{file}: no triangles");
+    let mut used = vec![false; sheet.positions.len()];
+    for t in &sheet.triangles {
+        let [a, b, c] = t.map(|i| sheet.positions[i as usize].truncate().as_dvec2());
+        let area = 0.5 * (b - a).perp_dot(c - a);
+        assert!(
+            area > 0.0,
+            "{file}: triangle {t:?} is not counter-clockwise ({area})"
+        );
+        for &i in t {
+            used[i as usize] = true;
+        }
+    }
+    assert!(used.iter().all(|&u| u), "{file}: unused vertex");
+    assert!(sheet.positions.iter().all(|p| p.z == 0.0 && p.is_finite()));
+
+    // Centred, longest side 1 m.
+    let min = sheet
+        .positions
+        .iter()
+        .fold(glam::Vec3::INFINITY, |m, p| m.min(*p));
+    let max = sheet
+        .positions
+        .iter()
+        .fold(glam::Vec3::NEG_INFINITY, |m, p| m.max(*p));
+    assert!(
+        (max - min).max_element() - 1.0 < 1e-5,
+        "{file}: size {:?}",
+        max - min
+    );
+    assert!((min + max).length() < 1e-5, "{file}: not centred");
+
+    assert!(!sheet.hinges.is_empty(), "{file}: no hinges");
+    assert!(sheet.crease_count() > 0, "{file}: no creases");
+    let directed: HashSet<[u32; 3]> = sheet
+        .triangles
+        .iter()
+        .flat_map(|&[a, b, c]| [[a, b, c], [b, c, a], [c, a, b]])
+        .collect();
+    for h in &sheet.hinges {
+        let [v0, v1, v2, v3] = h.v;
+        assert!(
+            directed.contains(&[v0, v1, v2]),
+            "{file}: hinge {h:?} first wing"
+        );
+        assert!(
+            directed.contains(&[v1, v0, v3]),
+            "{file}: hinge {h:?} second wing"
+        );
+        assert!(!matches!(
+            h.assignment,
+            Assignment::Boundary | Assignment::Cut
+        ));
+        if let Some(angle) = h.fold_angle {
+            assert!(angle.abs() <= std::f32::consts::PI + 1e-6);
+        }
+    }
+
+    // Euler characteristic V - E + F: 1 for a disc, less with holes or cuts
+    // running in from the rim (none of the shared patterns has either).
+    let edges: HashSet<[u32; 2]> = sheet
+        .triangles
+        .iter()
+        .flat_map(|&[a, b, c]| [[a, b], [b, c], [c, a]])
+        .map(|[a, b]| [a.min(b), a.max(b)])
+        .collect();
+    let chi = sheet.positions.len() as i64 - edges.len() as i64 + sheet.triangles.len() as i64;
+    assert_eq!(chi, 1, "{file}: Euler characteristic");
+}
+
+#[test]
+fn every_shared_pattern_imports_and_builds_a_sound_sheet() {
+    let files = pattern_files();
+    assert_eq!(files.len(), 14, "{files:?}");
+    for path in files {
+        let file = name(&path);
+        let pattern = load_pattern(&path).unwrap_or_else(|e| panic!("{e}"));
+        let sheet = Sheet::from_pattern(&pattern, &SheetOptions::default())
+            .unwrap_or_else(|e| panic!("{file}: {e}"));
+        check_sheet(&sheet, &file);
+    }
+}
+
+#[test]
+fn refined_sheets_stay_sound() {
+    for path in pattern_files() {
+        let file = name(&path);
+        let pattern = load_pattern(&path).unwrap();
+        let plain = Sheet::from_pattern(&pattern, &SheetOptions::default()).unwrap();
+        let options = SheetOptions {
+            size: 2.0,
+            max_edge: Some(0.25),
+        };
+        let refined = Sheet::from_pattern(&pattern, &options).unwrap();
+        assert!(refined.triangles.len() >= plain.triangles.len(), "{file}");
+        // About 150 triangles of side 0.25 m fill 2 m x 2 m, more near small
+        // angles between creases; refinement that spirals into a point makes
+        // tens of thousands.
+        let bound = plain.triangles.len() + 3000;
+        assert!(
+            refined.triangles.len() < bound,
+            "{file}: {}",
+            refined.triangles.len()
+        );
+        assert!(refined.crease_count() >= plain.crease_count(), "{file}");
+        let scaled = Sheet {
+            positions: refined.positions.iter().map(|p| *p * 0.5).collect(),
+            ..refined
+        };
+        check_sheet(&scaled, &file);
+    }
+}
+
+#[test]
+fn known_facts_about_the_shared_files() {
+    let sheet = |file: &str| {
+        let pattern = load_pattern(shared_dir().join(file)).unwrap();
+        Sheet::from_pattern(&pattern, &SheetOptions::default()).unwrap()
+    };
+    // One valley through the middle of a square: two triangles a side.
+    let line = sheet("line.cp");
+    let valleys: Vec<_> = line
+        .hinges
+        .iter()
+        .filter(|h| h.assignment == Assignment::Valley)
+        .collect();
+    assert!(!valleys.is_empty() && valleys.iter().all(|h| h.fold_angle.is_none()));
+    // The cube net folds its valleys to 90 degrees.
+    let cube = sheet("cube-cp.fold");
+    let angles: HashSet<i32> = cube
+        .hinges
+        .iter()
+        .filter(|h| h.assignment == Assignment::Valley)
+        .map(|h| h.fold_angle.unwrap().to_degrees().round() as i32)
+        .collect();
+    assert_eq!(angles, HashSet::from([90]));
+    // waterbombBase.svg: valleys at opacity 0.5 fold to 90 degrees.
+    let waterbomb = sheet("waterbombBase.svg");
+    assert!(waterbomb
+        .hinges
+        .iter()
+        .filter(|h| h.assignment == Assignment::Valley)
+        .all(|h| (h.fold_angle.unwrap() - std::f32::consts::FRAC_PI_2).abs() < 1e-6));
+    // hypar.svg's magenta lines are free hinges.
+    assert!(sheet("hypar.svg")
+        .hinges
+        .iter()
+        .any(|h| h.assignment == Assignment::Unassigned && h.fold_angle.is_none()));
+    // birdBase.svg has yellow facet lines and <animate> children.
+    let (bird, warnings) = load_pattern_with_warnings(shared_dir().join("birdBase.svg")).unwrap();
+    assert!(warnings.is_empty(), "{warnings:?}");
+    assert!(bird.edges.iter().any(|e| e.assignment == Assignment::Flat));
+}
+
+/// `(what, input, location, reason)` for one error kind.
+type Case = (&'static str, &'static str, &'static str, &'static str);
+
+fn check_cases(parse: impl Fn(&str) -> Result<CreasePattern, PatternError>, cases: &[Case]) {
+    for &(what, input, location, reason) in cases {
+        let error = parse(input).expect_err(what);
+        assert_eq!(error.location, location, "{what}: {error}");
+        assert!(error.reason.contains(reason), "{what}: {error}");
+        let message = error.with_file("bad").to_string();
+        assert!(
+            message.starts_with(&format!("bad: {location}")),
+            "{what}: {message}"
+        );
+    }
+}
+
+#[test]
+fn malformed_cp_files_are_refused_with_line_and_reason() {
+    check_cases(
+        parse_cp,
+        &[
+            (
+                "field count",
+                "1 0 0 1 1\n2 0 0 1\n",
+                "line 2",
+                "expected 5 fields, found 4",
+            ),
+            (
+                "extra field",
+                "1 0 0 1 1 7",
+                "line 1",
+                "expected 5 fields, found 6",
+            ),
+            (
+                "bad number",
+                "\n\n3 0 0 1e 1",
+                "line 3",
+                "x2: bad number '1e'",
+            ),
+            (
+                "not finite",
+                "3 0 NaN 1 1",
+                "line 1",
+                "y1: number 'NaN' is not finite",
+            ),
+            (
+                "unknown type",
+                "4 0 0 1 1",
+                "line 1",
+                "unknown line type '4'",
+            ),
+            ("empty", "\r\n", "", "no segments"),
+        ],
+    );
+}
+
+#[test]
+fn malformed_fold_files_are_refused_with_json_path_and_reason() {
+    check_cases(
+        parse_fold,
+        &[
+            (
+                "bad JSON",
+                "{\"vertices_coords\": [[0,0],]}",
+                "line 1, column 28",
+                "bad JSON: trailing comma",
+            ),
+            (
+                "not an object",
+                "[]",
+                "top level",
+                "expected a JSON object, found an array",
+            ),
+            (
+                "missing coords",
+                "{\"edges_vertices\": []}",
+                "vertices_coords",
+                "missing",
+            ),
+            (
+                "wrong type with path",
+                r#"{"vertices_coords": [[0,0],[1,0]], "edges_vertices": [[0,"1"]]}"#,
+                "edges_vertices[0][1]",
+                "expected a vertex index",
+            ),
+            (
+                "index out of range",
+                r#"{"vertices_coords": [[0,0],[1,0]], "edges_vertices": [[0,1],[1,5]]}"#,
+                "edges_vertices[1][1]",
+                "vertex index 5 out of range",
+            ),
+            (
+                "bad coordinate",
+                r#"{"vertices_coords": [[0,0],[1]], "edges_vertices": []}"#,
+                "vertices_coords[1]",
+                "expected [x, y] or [x, y, z]",
+            ),
+            (
+                "unknown assignment",
+                r#"{"vertices_coords": [[0,0],[1,0]], "edges_vertices": [[0,1]], "edges_assignment": ["Q"]}"#,
+                "edges_assignment[0]",
+                "unknown assignment 'Q'",
+            ),
+            (
+                "length mismatch",
+                r#"{"vertices_coords": [[0,0],[1,0]], "edges_vertices": [[0,1]], "edges_foldAngle": [1, 2]}"#,
+                "edges_foldAngle",
+                "has 2 entries, but edges_vertices has 1",
+            ),
+            (
+                "bad angle",
+                r#"{"vertices_coords": [[0,0],[1,0]], "edges_vertices": [[0,1]], "edges_foldAngle": [true]}"#,
+                "edges_foldAngle[0]",
+                "expected a number, found a boolean",
+            ),
+            (
+                "folded state",
+                r#"{"vertices_coords": [[0,0,0],[1,0,0.5]], "edges_vertices": [[0,1]]}"#,
+                "vertices_coords[1][2]",
+                "only flat crease patterns",
+            ),
+            (
+                "no edges",
+                r#"{"vertices_coords": [[0,0]]}"#,
+                "edges_vertices",
+                "missing (and no faces_vertices",
+            ),
+        ],
+    );
+}
+
+fn svg_pattern(text: &str) -> Result<CreasePattern, PatternError> {
+    parse_svg(text).map(|import| import.pattern)
+}
+
+#[test]
+fn malformed_svg_files_are_refused_with_line_and_reason() {
+    check_cases(
+        svg_pattern,
+        &[
+            ("bad XML", "<svg>\n<line></svg>", "line 2, column 7", "bad XML: expected 'line' tag, not 'svg'"),
+            ("wrong root", "<html/>", "top level", "expected an <svg> root element"),
+            (
+                "no segments",
+                "<svg><rect width=\"9\" height=\"9\" fill=\"red\"/><line x2=\"1\" stroke=\"#123\"/></svg>",
+                "",
+                "no segments",
+            ),
+            (
+                "curve",
+                "<svg>\n\n<path stroke=\"red\" d=\"M0 0 c1 1 2 2 3 3\"/></svg>",
+                "line 3",
+                "<path> d: curve command 'c' is not supported",
+            ),
+            (
+                "bad path",
+                "<svg><path stroke=\"red\" d=\"M0 0 L1\"/></svg>",
+                "line 1",
+                "<path> d: expected a number at character 8",
+            ),
+            (
+                "bad length",
+                "<svg><line stroke=\"red\" x1=\"1cm\"/></svg>",
+                "line 1",
+                "<line> x1: bad length '1cm'",
+            ),
+            (
+                "odd points",
+                "<svg><polyline stroke=\"blue\" points=\"0 0 1\"/></svg>",
+                "line 1",
+                "<polyline> points: odd number of coordinates",
+            ),
+            (
+                "negative rect",
+                "<svg><rect stroke=\"black\" width=\"-1\" height=\"2\"/></svg>",
+                "line 1",
+                "<rect> has a negative size",
+            ),
+            (
+                "bad opacity",
+                "<svg><line stroke=\"red\" x2=\"1\" opacity=\"x\"/></svg>",
+                "line 1",
+                "opacity: bad number 'x'",
+            ),
+            (
+                "bad transform",
+                "<svg><g transform=\"skew(3)\"><line stroke=\"red\" x2=\"1\"/></g></svg>",
+                "line 1",
+                "transform: unknown transform function 'skew'",
+            ),
+        ],
+    );
+}
+
+#[test]
+fn load_pattern_names_the_file() {
+    let path = std::env::temp_dir().join(format!("pleat-bad-{}.cp", std::process::id()));
+    std::fs::write(&path, "1 0 0 1 1\n2 0 0 1\n").unwrap();
+    let message = load_pattern(&path).unwrap_err().to_string();
+    std::fs::remove_file(&path).unwrap();
+    assert_eq!(
+        message,
+        format!("{}: line 2: expected 5 fields, found 4", path.display())
+    );
+    let missing = load_pattern("/nonexistent/x.fold").unwrap_err().to_string();
+    assert!(
+        missing.starts_with("/nonexistent/x.fold: cannot read"),
+        "{missing}"
+    );
+}
+
+/// xorshift64*: a small deterministic generator for the mutations.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
+    }
+
+    fn below(&mut self, n: usize) -> usize {
+        (self.next() % n as u64) as usize
+    }
+}
+
+fn import_and_build(file: &str, text: &str) {
+    let parsed = match file.rsplit('.').next() {
+        Some("cp") => parse_cp(text),
+        Some("fold") => parse_fold(text),
+        _ => svg_pattern(text),
+    };
+    if let Ok(pattern) = parsed {
+        // Errors are fine; a panic fails the test.
+        let _ = Sheet::from_pattern(&pattern, &SheetOptions::default());
+    }
+}
+
+#[test]
+fn mutated_files_never_panic() {
+    let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+    // Bytes that matter to the grammars.
+    let interesting = b"0123456789.-+eE,; \n<>/\"=[]{}:MmLlHhVvZzCc#";
+    for path in pattern_files() {
+        let file = name(&path);
+        let bytes = std::fs::read(&path).unwrap();
+        for k in 1..=40 {
+            let cut = bytes.len() * k / 41;
+            import_and_build(&file, &String::from_utf8_lossy(&bytes[..cut]));
+        }
+        for _ in 0..150 {
+            let mut mutated = bytes.clone();
+            for _ in 0..1 + rng.below(4) {
+                let at = rng.below(mutated.len());
+                mutated[at] = match rng.below(3) {
+                    0 => rng.next() as u8,
+                    1 => interesting[rng.below(interesting.len())],
+                    _ => mutated[at] ^ (1 << rng.below(8)),
+                };
+            }
+            import_and_build(&file, &String::from_utf8_lossy(&mutated));
+        }
+    }
+}

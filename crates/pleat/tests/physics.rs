@@ -1,0 +1,339 @@
+//! Whole-simulation physics checks of the XPBD solver: conservation, rest,
+//! iteration-independent stiffness, robustness and contacts.
+
+use pleat::glam::Vec3;
+use pleat::scene::presets::hanging_cloth;
+use pleat::scene::Scene;
+use pleat::Simulation;
+use std::path::Path;
+
+fn scenes_dir() -> &'static Path {
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes"))
+}
+
+fn build(scene: &Scene) -> Simulation {
+    scene.build(scenes_dir(), &scene.name).expect("valid scene")
+}
+
+fn load(name: &str) -> Scene {
+    Scene::load(&scenes_dir().join(name)).expect("shipped scene is valid")
+}
+
+fn run(sim: &mut Simulation, frames: u32, dt: f32) {
+    for _ in 0..frames {
+        sim.step(dt);
+    }
+}
+
+/// A free 12 x 12 cloth at the origin with no gravity, no damping and no pins.
+fn free_cloth(stretch_compliance: f32) -> Scene {
+    let mut scene = hanging_cloth(12, 10, false);
+    scene.gravity = Vec3::ZERO;
+    if let pleat::scene::MeshSpec::Grid(grid) = &mut scene.cloths[0].mesh {
+        grid.center = Vec3::ZERO;
+    }
+    scene.solver.damping = 0.0;
+    scene.cloths[0].pins.clear();
+    scene.cloths[0].material.stretch_compliance = stretch_compliance;
+    scene
+}
+
+#[test]
+fn compliance_zero_cloth_at_rest_stays_at_rest() {
+    let mut sim = build(&free_cloth(0.0));
+    let rest = sim.particles.x.clone();
+    run(&mut sim, 120, 1.0 / 60.0);
+    let drift = sim
+        .particles
+        .x
+        .iter()
+        .zip(&rest)
+        .map(|(a, b)| a.distance(*b))
+        .fold(0.0, f32::max);
+    assert!(drift < 1e-6, "a cloth at rest moved by {drift} m");
+}
+
+#[test]
+fn linear_momentum_is_kept_without_external_forces() {
+    let mut sim = build(&free_cloth(1e-5));
+    // Stir it: a velocity field with net momentum and plenty of shear and bending.
+    for (i, v) in sim.particles.v.iter_mut().enumerate() {
+        let f = i as f32;
+        *v = Vec3::new(
+            (f * 0.37).sin() + 0.3,
+            (f * 0.11).cos() - 0.2,
+            (f * 0.73).sin() * 2.0 + 0.1,
+        );
+    }
+    let before = sim.particles.momentum();
+    let energy = sim.particles.kinetic_energy();
+    run(&mut sim, 60, 1.0 / 60.0);
+    let after = sim.particles.momentum();
+    assert!(
+        sim.particles.kinetic_energy() < 0.9 * energy,
+        "the constraints worked: energy went into deformation and was dissipated"
+    );
+    assert!(
+        after.distance(before) < 1e-3 * before.length(),
+        "momentum {before} became {after}"
+    );
+}
+
+#[test]
+fn pinned_cloth_comes_to_rest() {
+    let mut scene = hanging_cloth(24, 10, false);
+    scene.solver.damping = 1.0;
+    let mut sim = build(&scene);
+    let pins: Vec<Vec3> = sim
+        .model
+        .pins
+        .iter()
+        .map(|p| sim.particles.x[p.particle as usize])
+        .collect();
+    run(&mut sim, 600, 1.0 / 60.0);
+    let before = sim.particles.x.clone();
+    run(&mut sim, 60, 1.0 / 60.0);
+    let drift = sim
+        .particles
+        .x
+        .iter()
+        .zip(&before)
+        .map(|(a, b)| a.distance(*b))
+        .fold(0.0, f32::max);
+    assert!(drift < 1e-3, "still moving {drift} m per second after 10 s");
+    assert!(
+        sim.particles.kinetic_energy() < 1e-6,
+        "kinetic energy {}",
+        sim.particles.kinetic_energy()
+    );
+    for (p, x0) in sim.model.pins.iter().zip(pins) {
+        assert_eq!(sim.particles.x[p.particle as usize], x0, "a pin moved");
+    }
+    // Hung by its corners, the middle of the top edge sags from 2 m.
+    let top_middle = sim.particles.x[12].y;
+    assert!(
+        top_middle < 2.0 - 0.01,
+        "the top edge sags: its middle is at {top_middle} m"
+    );
+}
+
+/// Relative elongation of a soft hanging strip (2 x 12 particles, pinned at
+/// its top corners) once it has settled.
+fn settled_elongation(iterations: u32) -> f32 {
+    let mut scene = hanging_cloth(2, 20, false);
+    if let pleat::scene::MeshSpec::Grid(grid) = &mut scene.cloths[0].mesh {
+        grid.resolution = [2, 12];
+        grid.size = [0.1, 1.0];
+    }
+    scene.solver.iterations = iterations;
+    scene.solver.damping = 5.0;
+    scene.cloths[0].material.stretch_compliance = 2e-2;
+    scene.cloths[0].material.shear_compliance = 2e-2;
+    let mut sim = build(&scene);
+    run(&mut sim, 600, 1.0 / 60.0);
+    let length = sim.particles.x[0].distance(sim.particles.x[22]);
+    length - 1.0
+}
+
+#[test]
+fn xpbd_stiffness_does_not_depend_on_iterations() {
+    let one = settled_elongation(1);
+    let ten = settled_elongation(10);
+    assert!(one > 0.005, "the soft strip stretches visibly: {one}");
+    // Plain PBD would be far stiffer with ten iterations than with one; with
+    // XPBD the compliance alone sets the stiffness.
+    assert!(
+        (one - ten).abs() < 0.05 * ten,
+        "elongation with 1 iteration {one}, with 10 {ten}"
+    );
+}
+
+#[test]
+fn extreme_inputs_give_no_nan() {
+    let mut scene = hanging_cloth(16, 1, false);
+    scene.fps = 30.0;
+    scene.cloths[0].material.stretch_compliance = 0.0;
+    scene.wind = Some(pleat::force::Wind {
+        velocity: Vec3::new(2500.0, 0.0, 2500.0),
+        turbulence: 1.0,
+        ..Default::default()
+    });
+    let (mut model, world) = scene.model(scenes_dir(), "extreme").unwrap();
+    // One particle of a microgram, the rest as usual.
+    model.mass[100] = 1e-6;
+    let mut sim = Simulation::new(model, world, scene.solver);
+    run(&mut sim, 120, 1.0 / 30.0);
+    assert!(!sim.metrics().nan, "NaN or infinity in the state");
+}
+
+#[test]
+fn tiny_density_cloth_in_gale_gives_no_nan() {
+    let mut scene = hanging_cloth(16, 1, true);
+    scene.fps = 30.0;
+    scene.cloths[0].material.density = 1e-3; // particles of about 4e-6 kg
+    scene.wind = Some(pleat::force::Wind {
+        velocity: Vec3::new(0.0, 0.0, 2500.0),
+        ..Default::default()
+    });
+    let mut sim = build(&scene);
+    run(&mut sim, 120, 1.0 / 30.0);
+    assert!(!sim.metrics().nan);
+}
+
+/// Runs a shipped scene to its end and checks that no particle is inside a collider.
+fn assert_no_particle_inside(name: &str) {
+    let scene = load(name);
+    let mut sim = build(&scene);
+    run(&mut sim, scene.frames, scene.frame_dt());
+    let m = sim.metrics();
+    assert!(!m.nan);
+    assert_eq!(m.collider_penetrations, 0);
+    let t = sim.world.time;
+    let deepest = sim
+        .particles
+        .x
+        .iter()
+        .flat_map(|x| {
+            sim.world
+                .colliders
+                .iter()
+                .map(move |c| c.signed_distance_at(*x, t))
+        })
+        .fold(f32::MAX, f32::min);
+    assert!(
+        deepest >= 0.0,
+        "{name}: a particle is {deepest} m inside a collider"
+    );
+}
+
+#[test]
+fn drape_ends_with_no_particle_inside_a_collider() {
+    assert_no_particle_inside("drape.json");
+}
+
+#[test]
+fn rotating_sphere_ends_with_no_particle_inside_a_collider() {
+    assert_no_particle_inside("rotating_sphere.json");
+}
+
+#[test]
+fn rotating_sphere_drags_the_cloth_round() {
+    let scene = load("rotating_sphere.json");
+    let mut sim = build(&scene);
+    run(&mut sim, 180, scene.frame_dt());
+    // Angular momentum about the sphere's (vertical) axis, from the cloth resting on top.
+    let top: Vec<usize> = (0..sim.particles.len())
+        .filter(|&i| sim.particles.x[i].y > 0.85)
+        .collect();
+    assert!(!top.is_empty());
+    let spin: f32 = top
+        .iter()
+        .map(|&i| sim.particles.x[i].cross(sim.particles.v[i]).y)
+        .sum::<f32>()
+        / top.len() as f32;
+    assert!(
+        spin > 0.0,
+        "friction turns the cloth with the sphere (mean r x v . y = {spin})"
+    );
+}
+
+#[test]
+fn tethers_limit_stretch_of_large_hanging_cloth() {
+    let mut sim = build(&hanging_cloth(128, 10, true));
+    run(&mut sim, 300, 1.0 / 60.0);
+    let m = sim.metrics();
+    assert!(!m.nan);
+    assert!(
+        m.max_stretch <= 1.02,
+        "max stretch with tethers after 5 s: {}",
+        m.max_stretch
+    );
+}
+
+#[test]
+fn results_do_not_depend_on_thread_count() {
+    let scene = load("flag.json");
+    let positions = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut sim = build(&scene);
+            run(&mut sim, 30, scene.frame_dt());
+            sim.particles.x
+        })
+    };
+    let (one, two) = (positions(1), positions(2));
+    assert!(one
+        .iter()
+        .zip(&two)
+        .all(|(a, b)| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits)));
+}
+
+#[test]
+fn cloth_rests_on_box_and_capsule_without_penetrating() {
+    let json = r#"{
+      "frames": 150,
+      "cloths": [ { "mesh": { "grid": { "resolution": [24, 24], "size": [1.2, 1.2], "center": [0, 1, 0] } } } ],
+      "colliders": [
+        { "shape": { "box": { "center": [0, 0.4, 0], "half_extents": [0.2, 0.4, 0.2], "rotation_degrees": [0, 30, 0] } } },
+        { "shape": { "capsule": { "a": [0.45, 0.2, -0.3], "b": [0.45, 0.2, 0.3], "radius": 0.12 } } },
+        { "shape": { "plane": {} } }
+      ]
+    }"#;
+    let scene = Scene::parse(json, "box_capsule.json").unwrap();
+    let mut sim = build(&scene);
+    run(&mut sim, scene.frames, scene.frame_dt());
+    let m = sim.metrics();
+    assert!(!m.nan && m.collider_penetrations == 0);
+    // Something rests on top of the box (its top face is at 0.8 m).
+    let on_box = sim
+        .particles
+        .x
+        .iter()
+        .filter(|x| x.y > 0.79 && x.y < 0.83)
+        .count();
+    assert!(on_box > 0, "the cloth lies on the box");
+}
+
+#[test]
+fn scripted_pin_follows_its_motion() {
+    let json = r#"{
+      "cloths": [ { "mesh": { "grid": { "resolution": [8, 8], "orientation": "vertical", "center": [0, 1, 0] } },
+                    "pins": [ { "corners": ["top_left"], "motion": { "linear_velocity": [0.5, 0, 0] } },
+                              { "corners": ["top_right"], "compliance": 1e-4 } ] } ]
+    }"#;
+    let scene = Scene::parse(json, "moving_pin.json").unwrap();
+    let mut sim = build(&scene);
+    let start = sim.particles.x[0];
+    run(&mut sim, 60, 1.0 / 60.0);
+    let moved = sim.particles.x[0] - start;
+    assert!(
+        moved.distance(Vec3::new(0.5, 0.0, 0.0)) < 1e-4,
+        "hard pin moved by {moved}"
+    );
+    // The soft pin holds its corner near its anchor, but not exactly.
+    let soft = sim.particles.x[7].distance(Vec3::new(0.5, 1.5, 0.0));
+    assert!(
+        soft > 0.0 && soft < 0.05,
+        "soft pin is {soft} m from its anchor"
+    );
+}
+
+#[test]
+fn wind_blows_the_flag_downwind() {
+    let scene = load("flag.json");
+    let mut sim = build(&scene);
+    run(&mut sim, 120, scene.frame_dt());
+    let mean_z = sim.particles.x.iter().map(|x| x.z).sum::<f32>() / sim.particles.len() as f32;
+    let free_edge_x = sim.particles.x[59].x;
+    assert!(
+        mean_z > 0.02,
+        "the wind's z component pushes the flag: mean z {mean_z}"
+    );
+    assert!(
+        free_edge_x > 1.0,
+        "the free edge streams out downwind: x = {free_edge_x}"
+    );
+}
