@@ -3,6 +3,7 @@
 
 mod bench;
 mod check;
+mod compare;
 mod fold;
 mod output;
 mod report;
@@ -28,6 +29,8 @@ enum Command {
     Bench(bench::BenchArgs),
     /// Fold a crease pattern (a .cp, .fold or .svg file, or a built-in) as paper.
     Fold(fold::FoldArgs),
+    /// Run one scene with every solver: table, stretch plot and stability sweep.
+    Compare(compare::CompareArgs),
 }
 
 fn main() -> ExitCode {
@@ -38,6 +41,7 @@ fn main() -> ExitCode {
         Some(Command::Check(args)) => check::check(&args),
         Some(Command::Bench(args)) => bench::bench(&args),
         Some(Command::Fold(args)) => fold::fold(&args),
+        Some(Command::Compare(args)) => compare::compare(&args),
     };
     match result {
         Ok(code) => code,

@@ -78,7 +78,7 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, String> {
         out.finish()?;
         println!("wrote {}", report.write(dir)?.display());
     }
-    Ok(if report.nan {
+    Ok(if report.nan || report.unstable {
         ExitCode::FAILURE
     } else {
         ExitCode::SUCCESS

@@ -1,11 +1,12 @@
 //! A running simulation: the model, the world, the particles and the solver
-//! that advances them, with per-stage timings.
+//! that advances them, with per-stage timings and a watch for instability.
 
 use crate::metrics::Metrics;
 use crate::model::Model;
 use crate::origami::FoldRamp;
 use crate::particles::Particles;
 use crate::solver::{self, Solver, SolverSettings, StageTimes};
+use crate::stability::StabilityMonitor;
 use crate::world::World;
 
 pub struct Simulation {
@@ -19,6 +20,8 @@ pub struct Simulation {
     pub fold_ramp: Option<FoldRamp>,
     fold_progress: f32,
     frames_stepped: u32,
+    /// Set when the solver first produces NaN/inf or runaway stretch.
+    pub stability: StabilityMonitor,
     solver: Box<dyn Solver>,
 }
 
@@ -35,6 +38,7 @@ impl Simulation {
             fold_ramp: None,
             fold_progress: 0.0,
             frames_stepped: 0,
+            stability: StabilityMonitor::default(),
             solver,
         }
     }
@@ -48,6 +52,8 @@ impl Simulation {
             .step(&mut self.particles, &self.world, frame_dt, &mut self.stages);
         self.world.time += frame_dt;
         self.frames_stepped += 1;
+        self.stability
+            .check(&self.model, &self.world, &self.particles);
     }
 
     /// Sets the fold progress `c` (clamped to `[0, 1]`): every origami
@@ -68,6 +74,8 @@ impl Simulation {
 
     /// Quality figures of the current state.
     pub fn metrics(&self) -> Metrics {
-        Metrics::measure(&self.model, &self.world, &self.particles)
+        let mut m = Metrics::measure(&self.model, &self.world, &self.particles);
+        m.unstable |= self.stability.is_unstable();
+        m
     }
 }

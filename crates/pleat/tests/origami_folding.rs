@@ -349,6 +349,10 @@ fn bad_pattern_scenes_are_refused_with_their_path() {
             "{path}: {errors}"
         );
     }
+    let classic = r#"{ "solver": { "kind": "mass_spring" },
+                       "cloths": [{ "mesh": { "pattern": { "builtin": "miura-ori" } } }] }"#;
+    let errors = Scene::parse(classic, "bad.json").unwrap_err();
+    assert_eq!(errors.0[0].path, "solver.kind");
     let no_pattern = r#"{ "cloths": [{ "mesh": { "grid": { "resolution": [4, 4] } } }],
                           "fold": { "progress": 0.5 } }"#;
     let errors = Scene::parse(no_pattern, "bad.json").unwrap_err();

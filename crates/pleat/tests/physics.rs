@@ -270,3 +270,70 @@ fn results_do_not_depend_on_thread_count() {
         .zip(&two)
         .all(|(a, b)| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits)));
 }
+
+#[test]
+fn cloth_rests_on_box_and_capsule_without_penetrating() {
+    let json = r#"{
+      "frames": 150,
+      "cloths": [ { "mesh": { "grid": { "resolution": [24, 24], "size": [1.2, 1.2], "center": [0, 1, 0] } } } ],
+      "colliders": [
+        { "shape": { "box": { "center": [0, 0.4, 0], "half_extents": [0.2, 0.4, 0.2], "rotation_degrees": [0, 30, 0] } } },
+        { "shape": { "capsule": { "a": [0.45, 0.2, -0.3], "b": [0.45, 0.2, 0.3], "radius": 0.12 } } },
+        { "shape": { "plane": {} } }
+      ]
+    }"#;
+    let scene = Scene::parse(json, "box_capsule.json").unwrap();
+    let mut sim = build(&scene);
+    run(&mut sim, scene.frames, scene.frame_dt());
+    let m = sim.metrics();
+    assert!(!m.nan && m.collider_penetrations == 0);
+    // Something rests on top of the box (its top face is at 0.8 m).
+    let on_box = sim
+        .particles
+        .x
+        .iter()
+        .filter(|x| x.y > 0.79 && x.y < 0.83)
+        .count();
+    assert!(on_box > 0, "the cloth lies on the box");
+}
+
+#[test]
+fn scripted_pin_follows_its_motion() {
+    let json = r#"{
+      "cloths": [ { "mesh": { "grid": { "resolution": [8, 8], "orientation": "vertical", "center": [0, 1, 0] } },
+                    "pins": [ { "corners": ["top_left"], "motion": { "linear_velocity": [0.5, 0, 0] } },
+                              { "corners": ["top_right"], "compliance": 1e-4 } ] } ]
+    }"#;
+    let scene = Scene::parse(json, "moving_pin.json").unwrap();
+    let mut sim = build(&scene);
+    let start = sim.particles.x[0];
+    run(&mut sim, 60, 1.0 / 60.0);
+    let moved = sim.particles.x[0] - start;
+    assert!(
+        moved.distance(Vec3::new(0.5, 0.0, 0.0)) < 1e-4,
+        "hard pin moved by {moved}"
+    );
+    // The soft pin holds its corner near its anchor, but not exactly.
+    let soft = sim.particles.x[7].distance(Vec3::new(0.5, 1.5, 0.0));
+    assert!(
+        soft > 0.0 && soft < 0.05,
+        "soft pin is {soft} m from its anchor"
+    );
+}
+
+#[test]
+fn wind_blows_the_flag_downwind() {
+    let scene = load("flag.json");
+    let mut sim = build(&scene);
+    run(&mut sim, 120, scene.frame_dt());
+    let mean_z = sim.particles.x.iter().map(|x| x.z).sum::<f32>() / sim.particles.len() as f32;
+    let free_edge_x = sim.particles.x[59].x;
+    assert!(
+        mean_z > 0.02,
+        "the wind's z component pushes the flag: mean z {mean_z}"
+    );
+    assert!(
+        free_edge_x > 1.0,
+        "the free edge streams out downwind: x = {free_edge_x}"
+    );
+}

@@ -5,7 +5,9 @@ use super::{
     ClothSpec, ColliderSpec, FoldSpec, MeshSpec, PatternMeshSpec, Scene, SceneError, ShapeSpec,
 };
 use crate::force::Wind;
+use crate::material::Material;
 use crate::origami::{builtin, BUILTIN_NAMES};
+use crate::solver::SolverKind;
 
 /// Collects the range errors of `scene`.
 pub fn validate(scene: &Scene, file: &str) -> Vec<SceneError> {
@@ -28,6 +30,16 @@ pub fn validate(scene: &Scene, file: &str) -> Vec<SceneError> {
     );
     v.non_negative("solver.damping", scene.solver.damping);
     v.check(
+        (0.0..=100.0).contains(&scene.solver.global_damping),
+        "solver.global_damping",
+        "must be a percentage between 0 and 100",
+    );
+    v.check(
+        scene.solver.relaxation > 0.0 && scene.solver.relaxation <= 2.0,
+        "solver.relaxation",
+        "must be in (0, 2]",
+    );
+    v.check(
         !scene.cloths.is_empty(),
         "cloths",
         "a scene needs at least one cloth",
@@ -41,11 +53,18 @@ pub fn validate(scene: &Scene, file: &str) -> Vec<SceneError> {
     if let Some(wind) = &scene.wind {
         v.wind(wind);
     }
+    let has_pattern = scene
+        .cloths
+        .iter()
+        .any(|c| matches!(c.mesh, MeshSpec::Pattern(_)));
+    if has_pattern {
+        v.check(
+            scene.solver.kind == SolverKind::Xpbd,
+            "solver.kind",
+            "pattern cloths fold only with the xpbd solver",
+        );
+    }
     if let Some(fold) = &scene.fold {
-        let has_pattern = scene
-            .cloths
-            .iter()
-            .any(|c| matches!(c.mesh, MeshSpec::Pattern(_)));
         v.check(
             has_pattern,
             "fold",
@@ -148,6 +167,10 @@ impl Validator<'_> {
             m.bend_compliance,
         );
         self.non_negative(&format!("{path}.material.thickness"), m.thickness);
+        self.classic_material(&format!("{path}.material"), m);
+        for (k, &w) in cloth.stiffness_weights.iter().enumerate() {
+            self.non_negative(&format!("{path}.stiffness_weights[{k}]"), w);
+        }
         for (i, pin) in cloth.pins.iter().enumerate() {
             let p = format!("{path}.pins[{i}]");
             self.non_negative(&format!("{p}.compliance"), pin.compliance);
@@ -196,6 +219,36 @@ impl Validator<'_> {
             (0.0..=1.0).contains(&f.progress),
             "fold.progress",
             &format!("must be between 0 and 1, got {}", f.progress),
+        );
+    }
+
+    /// Spring constants, PBD stiffness factors and the stiffness gradient.
+    fn classic_material(&mut self, path: &str, m: &Material) {
+        for (name, c) in [
+            ("spring_stiffness", m.spring_stiffness),
+            ("spring_damping", m.spring_damping),
+        ] {
+            self.non_negative(&format!("{path}.{name}.structural"), c.structural);
+            self.non_negative(&format!("{path}.{name}.shear"), c.shear);
+            self.non_negative(&format!("{path}.{name}.bend"), c.bend);
+        }
+        for (name, k) in [
+            ("stretch", m.pbd_stiffness.stretch),
+            ("bend", m.pbd_stiffness.bend),
+        ] {
+            self.check(
+                (0.0..=1.0).contains(&k),
+                &format!("{path}.pbd_stiffness.{name}"),
+                &format!("must be between 0 and 1, got {k}"),
+            );
+        }
+        self.check(
+            (0.0..1.0).contains(&m.stiffness_gradient),
+            &format!("{path}.stiffness_gradient"),
+            &format!(
+                "must be at least 0 and less than 1, got {}",
+                m.stiffness_gradient
+            ),
         );
     }
 

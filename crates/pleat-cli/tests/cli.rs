@@ -1,0 +1,236 @@
+//! The `pleat` command as users and other tools call it: report.json,
+//! exports, thread-count independence, check and bench output.
+
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn pleat(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_pleat"))
+        .args(args)
+        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+        .output()
+        .expect("pleat runs")
+}
+
+fn out_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("pleat-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+fn report(dir: &Path) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap()
+}
+
+/// The report without the fields that measure the machine rather than the physics.
+fn physics_fields(mut report: Value) -> Value {
+    let map = report.as_object_mut().unwrap();
+    for timing in ["ms_per_frame", "stages_ms", "threads"] {
+        map.remove(timing);
+    }
+    report
+}
+
+#[test]
+fn default_run_writes_the_report_contract() {
+    let dir = out_dir("default");
+    let out = pleat(&["run", "--frames", "5", "--out", dir.to_str().unwrap()]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let r = report(&dir);
+    for key in [
+        "scene",
+        "backend",
+        "solver",
+        "frames",
+        "frame_dt",
+        "substeps",
+        "particles",
+        "triangles",
+        "constraints",
+        "ms_per_frame",
+        "stages_ms",
+        "max_stretch",
+        "mean_stretch",
+        "nan",
+        "self_intersections",
+        "collider_penetrations",
+    ] {
+        assert!(r.get(key).is_some(), "report.json lacks {key}");
+    }
+    assert_eq!(r["scene"], "drape");
+    assert_eq!(r["backend"], "cpu");
+    assert_eq!(r["frames"], 5);
+    assert_eq!(r["nan"], false);
+    for stage in ["predict", "constraints", "collisions"] {
+        assert!(r["stages_ms"][stage].is_number(), "stages_ms.{stage}");
+    }
+    for k in ["mean", "p50", "p95"] {
+        assert!(r["ms_per_frame"][k].as_f64().unwrap() > 0.0);
+    }
+    assert!(dir.join("frame_00000.obj").exists() && dir.join("frame_00005.obj").exists());
+}
+
+#[test]
+fn one_and_two_threads_give_identical_results() {
+    for scene in ["scenes/flag.json", "scenes/rotating_sphere.json"] {
+        let runs: Vec<PathBuf> = [1, 2]
+            .iter()
+            .map(|t| {
+                let dir = out_dir(&format!("threads{t}-{}", scene.replace('/', "_")));
+                let out = pleat(&[
+                    "run",
+                    scene,
+                    "--frames",
+                    "20",
+                    "--every",
+                    "10",
+                    "--threads",
+                    &t.to_string(),
+                    "--out",
+                    dir.to_str().unwrap(),
+                ]);
+                assert!(
+                    out.status.success(),
+                    "{}",
+                    String::from_utf8_lossy(&out.stderr)
+                );
+                dir
+            })
+            .collect();
+        assert_eq!(
+            physics_fields(report(&runs[0])),
+            physics_fields(report(&runs[1])),
+            "{scene}"
+        );
+        for frame in ["frame_00000.obj", "frame_00010.obj", "frame_00020.obj"] {
+            let a = std::fs::read(runs[0].join(frame)).unwrap();
+            let b = std::fs::read(runs[1].join(frame)).unwrap();
+            assert!(a == b, "{scene} {frame} differs between 1 and 2 threads");
+        }
+    }
+}
+
+#[test]
+fn glb_export_is_one_animated_file() {
+    let dir = out_dir("glb");
+    let out = pleat(&[
+        "run",
+        "scenes/hanging.json",
+        "--frames",
+        "6",
+        "--every",
+        "2",
+        "--format",
+        "glb",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let glb = gltf::Gltf::open(dir.join("anim.glb")).expect("valid glb");
+    let mesh = glb.meshes().next().unwrap();
+    let targets = mesh.primitives().next().unwrap().morph_targets().count();
+    assert_eq!(
+        targets, 3,
+        "frames 2, 4 and 6 as morph targets over frame 0"
+    );
+    assert_eq!(glb.animations().count(), 1);
+}
+
+#[test]
+fn ply_export() {
+    let dir = out_dir("ply");
+    let out = pleat(&[
+        "run",
+        "scenes/hanging.json",
+        "--frames",
+        "2",
+        "--format",
+        "ply",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    let ply = std::fs::read(dir.join("frame_00002.ply")).unwrap();
+    assert!(ply.starts_with(b"ply\nformat binary_little_endian 1.0\n"));
+}
+
+#[test]
+fn check_reports_every_file_and_fails_on_a_bad_one() {
+    let bad = out_dir("check").with_extension("json");
+    std::fs::write(
+        &bad,
+        r#"{ "cloths": [ { "mesh": { "grid": { "resolution": [1, 4] } } } ] }"#,
+    )
+    .unwrap();
+    let out = pleat(&[
+        "check",
+        "scenes/drape.json",
+        "patterns/shared/miura_ori.cp",
+        bad.to_str().unwrap(),
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{stdout}");
+    assert!(
+        stdout.contains("ok   scenes/drape.json: scene 'drape'"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("ok   patterns/shared/miura_ori.cp: crease pattern"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("cloths[0].mesh.grid.resolution[0]: must be between 2 and 4096"),
+        "{stdout}"
+    );
+    let good = pleat(&["check", "scenes/flag.json"]);
+    assert!(good.status.success());
+}
+
+#[test]
+fn bench_json_lines() {
+    let out = pleat(&[
+        "bench", "--sizes", "8,12", "--frames", "2", "--warmup", "1", "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let lines: Vec<Value> = String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines.len(), 2);
+    for (line, n) in lines.iter().zip([8, 12]) {
+        for key in [
+            "backend",
+            "n",
+            "particles",
+            "substeps",
+            "self_collision",
+            "ms_per_frame",
+            "max_stretch",
+        ] {
+            assert!(line.get(key).is_some(), "bench line lacks {key}: {line}");
+        }
+        assert_eq!(line["n"], n);
+        assert_eq!(line["particles"], n * n);
+        assert_eq!(line["substeps"], 10);
+    }
+}
+
+#[test]
+fn gpu_backend_is_refused_with_a_message() {
+    let out = pleat(&["run", "--backend", "gpu", "--frames", "1"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("GPU backend is not part of this build"));
+}

@@ -1,0 +1,369 @@
+//! Every kind of bad scene file is refused with a message that names the
+//! file, the JSON path and the reason (DESIGN.md section 5).
+
+use pleat::scene::Scene;
+use std::path::Path;
+
+const GOOD: &str = r#"{
+  "cloths": [ { "mesh": { "grid": { "resolution": [4, 4] } }, "pins": [ { "corners": ["top_left"] } ] } ],
+  "colliders": [ { "shape": { "sphere": { "center": [0, 0, 0], "radius": 0.5 } } } ]
+}"#;
+
+/// The single error message for `json`, parsed and built as `bad.json`.
+fn error_of(json: &str) -> String {
+    let scene = match Scene::parse(json, "bad.json") {
+        Ok(scene) => scene,
+        Err(e) => return e.to_string(),
+    };
+    match scene.model(Path::new("."), "bad.json") {
+        Ok(_) => panic!("accepted: {json}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+fn assert_error(json: &str, path: &str, reason: &str) {
+    let message = error_of(json);
+    assert!(message.starts_with("bad.json: "), "no file name: {message}");
+    assert!(message.contains(path), "no path '{path}' in: {message}");
+    assert!(
+        message.contains(reason),
+        "no reason '{reason}' in: {message}"
+    );
+}
+
+#[test]
+fn good_scene_is_accepted() {
+    let scene = Scene::parse(GOOD, "good.json").unwrap();
+    assert_eq!(scene.name, "good");
+    scene.model(Path::new("."), "good.json").unwrap();
+}
+
+#[test]
+fn syntax_error_gives_line_and_column() {
+    assert_error("{\n  \"cloths\": [ }\n", "", "line 2, column");
+}
+
+#[test]
+fn unknown_field() {
+    let json = GOOD.replace("\"resolution\"", "\"resolutoin\"");
+    assert_error(&json, "cloths[0].mesh.grid", "unknown field `resolutoin`");
+}
+
+#[test]
+fn wrong_type() {
+    let json = GOOD.replace("\"radius\": 0.5", "\"radius\": \"big\"");
+    assert_error(
+        &json,
+        "colliders[0].shape.sphere.radius",
+        "invalid type: string \"big\"",
+    );
+}
+
+#[test]
+fn missing_field() {
+    let json = GOOD.replace("\"center\": [0, 0, 0], ", "");
+    assert_error(&json, "colliders[0].shape.sphere", "missing field `center`");
+}
+
+#[test]
+fn unknown_variant() {
+    let json = GOOD.replace("top_left", "top_middle");
+    assert_error(
+        &json,
+        "cloths[0].pins[0].corners[0]",
+        "unknown variant `top_middle`",
+    );
+}
+
+#[test]
+fn negative_resolution_is_a_type_error() {
+    let json = GOOD.replace("[4, 4]", "[4, -4]");
+    assert_error(
+        &json,
+        "cloths[0].mesh.grid.resolution[1]",
+        "invalid value: integer `-4`",
+    );
+}
+
+#[test]
+fn zero_resolution() {
+    let json = GOOD.replace("[4, 4]", "[0, 4]");
+    assert_error(
+        &json,
+        "cloths[0].mesh.grid.resolution[0]",
+        "between 2 and 4096",
+    );
+}
+
+#[test]
+fn negative_density() {
+    let json = GOOD.replace("\"pins\"", "\"material\": { \"density\": -1 }, \"pins\"");
+    assert_error(
+        &json,
+        "cloths[0].material.density",
+        "must be a positive number, got -1",
+    );
+}
+
+#[test]
+fn negative_compliance() {
+    let json = GOOD.replace(
+        "\"pins\"",
+        "\"material\": { \"bend_compliance\": -0.1 }, \"pins\"",
+    );
+    assert_error(
+        &json,
+        "cloths[0].material.bend_compliance",
+        "must be zero or positive",
+    );
+}
+
+#[test]
+fn number_too_large_for_a_float() {
+    let json = GOOD.replace("\"radius\": 0.5", "\"radius\": 1e999");
+    assert_error(
+        &json,
+        "colliders[0].shape.sphere.radius",
+        "number out of range",
+    );
+}
+
+#[test]
+fn zero_radius() {
+    let json = GOOD.replace("\"radius\": 0.5", "\"radius\": 0");
+    assert_error(
+        &json,
+        "colliders[0].shape.sphere.radius",
+        "must be a positive number",
+    );
+}
+
+#[test]
+fn zero_plane_normal() {
+    let json = GOOD.replace(
+        "{ \"sphere\": { \"center\": [0, 0, 0], \"radius\": 0.5 } }",
+        "{ \"plane\": { \"normal\": [0, 0, 0] } }",
+    );
+    assert_error(&json, "colliders[0].shape.plane.normal", "must not be zero");
+}
+
+#[test]
+fn negative_friction() {
+    let json = GOOD.replace(
+        "\"radius\": 0.5 } }",
+        "\"radius\": 0.5 } }, \"friction\": { \"static\": -1, \"kinetic\": 0.2 }",
+    );
+    assert_error(
+        &json,
+        "colliders[0].friction.static",
+        "must be zero or positive",
+    );
+}
+
+#[test]
+fn zero_substeps() {
+    let json = GOOD.replacen('{', "{ \"solver\": { \"substeps\": 0 },", 1);
+    assert_error(&json, "solver.substeps", "between 1 and 1000");
+}
+
+#[test]
+fn zero_fps() {
+    let json = GOOD.replacen('{', "{ \"fps\": 0,", 1);
+    assert_error(&json, "fps", "must be a positive number");
+}
+
+#[test]
+fn no_cloth() {
+    assert_error("{ \"cloths\": [] }", "cloths", "at least one cloth");
+}
+
+#[test]
+fn bad_wind() {
+    let json = GOOD.replacen(
+        '{',
+        "{ \"wind\": { \"velocity\": [5, 0, 0], \"turbulence_scale\": 0 },",
+        1,
+    );
+    assert_error(&json, "wind.turbulence_scale", "must be a positive number");
+}
+
+#[test]
+fn empty_pin_group() {
+    let json = GOOD.replace("{ \"corners\": [\"top_left\"] }", "{ \"compliance\": 0 }");
+    assert_error(
+        &json,
+        "cloths[0].pins[0]",
+        "needs corners, edges or indices",
+    );
+}
+
+#[test]
+fn pin_index_out_of_range() {
+    let json = GOOD.replace(
+        "{ \"corners\": [\"top_left\"] }",
+        "{ \"indices\": [3, 16] }",
+    );
+    assert_error(
+        &json,
+        "cloths[0].pins[0].indices[1]",
+        "vertex 16 does not exist: the mesh has 16 vertices",
+    );
+}
+
+#[test]
+fn named_pins_need_a_grid() {
+    let dir = std::env::temp_dir().join(format!("pleat-scene-errors-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("tri.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let json = GOOD.replace(
+        "{ \"grid\": { \"resolution\": [4, 4] } }",
+        "{ \"obj\": { \"path\": \"tri.obj\" } }",
+    );
+    let scene = Scene::parse(&json, "bad.json").unwrap();
+    let e = scene.model(&dir, "bad.json").unwrap_err().to_string();
+    assert!(
+        e.contains("cloths[0].pins[0].corners") && e.contains("need a grid mesh"),
+        "{e}"
+    );
+}
+
+#[test]
+fn missing_obj_file() {
+    let json = GOOD.replace(
+        "{ \"grid\": { \"resolution\": [4, 4] } }",
+        "{ \"obj\": { \"path\": \"nowhere.obj\" } }",
+    );
+    assert_error(&json, "cloths[0].mesh.obj.path", "cannot open the file");
+}
+
+#[test]
+fn every_range_error_is_reported_at_once() {
+    let json = GOOD
+        .replace("\"radius\": 0.5", "\"radius\": -2")
+        .replace("[4, 4]", "[1, 4]");
+    let message = error_of(&json);
+    assert_eq!(message.lines().count(), 2, "{message}");
+}
+
+#[test]
+fn unreadable_file() {
+    let e = Scene::load(Path::new("/nonexistent/scene.json"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("/nonexistent/scene.json") && e.contains("cannot read the file"),
+        "{e}"
+    );
+}
+
+/// GOOD with `fields` added to the cloth's material.
+fn with_material(fields: &str) -> String {
+    GOOD.replace(
+        "\"pins\"",
+        &format!("\"material\": {{ {fields} }}, \"pins\""),
+    )
+}
+
+#[test]
+fn negative_spring_stiffness() {
+    let json =
+        with_material("\"spring_stiffness\": { \"structural\": -5, \"shear\": 1, \"bend\": 0.1 }");
+    assert_error(
+        &json,
+        "cloths[0].material.spring_stiffness.structural",
+        "must be zero or positive",
+    );
+}
+
+#[test]
+fn negative_spring_damping() {
+    let json =
+        with_material("\"spring_damping\": { \"structural\": 0, \"shear\": 0, \"bend\": -1 }");
+    assert_error(
+        &json,
+        "cloths[0].material.spring_damping.bend",
+        "must be zero or positive",
+    );
+}
+
+#[test]
+fn unknown_spring_kind() {
+    let json = with_material(
+        "\"spring_stiffness\": { \"structural\": 5, \"shear\": 1, \"bend\": 0.1, \"twist\": 1 }",
+    );
+    assert_error(
+        &json,
+        "cloths[0].material.spring_stiffness",
+        "unknown field `twist`",
+    );
+}
+
+#[test]
+fn pbd_stiffness_above_one() {
+    let json = with_material("\"pbd_stiffness\": { \"stretch\": 1.5, \"bend\": 0.1 }");
+    assert_error(
+        &json,
+        "cloths[0].material.pbd_stiffness.stretch",
+        "must be between 0 and 1",
+    );
+}
+
+#[test]
+fn stiffness_gradient_of_one() {
+    let json = with_material("\"stiffness_gradient\": 1.0");
+    assert_error(
+        &json,
+        "cloths[0].material.stiffness_gradient",
+        "less than 1",
+    );
+}
+
+#[test]
+fn stiffness_weights_of_the_wrong_count() {
+    let json = GOOD.replace("\"pins\"", "\"stiffness_weights\": [1, 1, 1], \"pins\"");
+    assert_error(
+        &json,
+        "cloths[0].stiffness_weights",
+        "has 3 weights, the mesh has 16 vertices",
+    );
+}
+
+#[test]
+fn negative_stiffness_weight() {
+    let weights = format!("[{}-1]", "1, ".repeat(15));
+    let json = GOOD.replace(
+        "\"pins\"",
+        &format!("\"stiffness_weights\": {weights}, \"pins\""),
+    );
+    assert_error(
+        &json,
+        "cloths[0].stiffness_weights[15]",
+        "must be zero or positive",
+    );
+}
+
+#[test]
+fn global_damping_over_a_hundred_percent() {
+    let json = GOOD.replacen(
+        '{',
+        "{ \"solver\": { \"kind\": \"mass_spring\", \"global_damping\": 150 },",
+        1,
+    );
+    assert_error(&json, "solver.global_damping", "between 0 and 100");
+}
+
+#[test]
+fn relaxation_above_two() {
+    let json = GOOD.replacen(
+        '{',
+        "{ \"solver\": { \"kind\": \"jacobi_pbd\", \"relaxation\": 3 },",
+        1,
+    );
+    assert_error(&json, "solver.relaxation", "must be in (0, 2]");
+}
+
+#[test]
+fn unknown_solver_kind() {
+    let json = GOOD.replacen('{', "{ \"solver\": { \"kind\": \"implicit_euler\" },", 1);
+    assert_error(&json, "solver.kind", "unknown variant `implicit_euler`");
+}
