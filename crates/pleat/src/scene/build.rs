@@ -32,41 +32,17 @@ impl Scene {
         let mut model = Model::default();
         let mut errors = Vec::new();
         for (i, cloth) in self.cloths.iter().enumerate() {
-            let path = format!("cloths[{i}]");
             let name = if cloth.name.is_empty() {
                 format!("cloth{i}")
             } else {
                 cloth.name.clone()
             };
-            if let MeshSpec::Pattern(spec) = &cloth.mesh {
-                match pattern_sheet(spec, base_dir) {
-                    Ok(sheet) => model.add_paper(&name, &sheet, cloth.material, spec.stiffness),
-                    Err(e) => errors.push(SceneError {
-                        file: file.into(),
-                        path: format!("{path}.mesh.pattern"),
-                        reason: e.to_string(),
-                    }),
-                }
-                continue;
-            }
-            match cloth_mesh(cloth, base_dir)
-                .and_then(|(mesh, grid)| Ok((pins(cloth, &mesh, grid.as_ref())?, mesh)))
-            {
-                Ok((pins, mesh)) => {
-                    model.add_cloth(&name, mesh, cloth.material, &pins, cloth.tethers);
-                    if let Err(reason) = apply_stiffness_weights(&mut model, cloth) {
-                        errors.push(SceneError {
-                            file: file.into(),
-                            path: format!("{path}.stiffness_weights"),
-                            reason,
-                        });
-                    }
-                }
-                Err((sub, reason)) => errors.push(SceneError {
+            if let Err((sub, reason)) = add_cloth(&mut model, &name, cloth, base_dir) {
+                errors.push(SceneError {
                     file: file.into(),
-                    path: format!("{path}.{sub}"),
+                    path: format!("cloths[{i}].{sub}"),
                     reason,
-                }),
+                });
             }
         }
         if !errors.is_empty() {
@@ -107,8 +83,20 @@ fn apply_stiffness_weights(model: &mut Model, cloth: &ClothSpec) -> Result<(), S
 /// An error inside a cloth: the path below `cloths[i]` and the reason.
 type ClothError = (String, String);
 
-fn cloth_mesh(cloth: &ClothSpec, base_dir: &Path) -> Result<(Mesh, Option<GridSpec>), ClothError> {
-    match &cloth.mesh {
+/// Builds one cloth of the scene (a mesh with pins, or a sheet of paper) into `model`.
+fn add_cloth(
+    model: &mut Model,
+    name: &str,
+    cloth: &ClothSpec,
+    base_dir: &Path,
+) -> Result<(), ClothError> {
+    let (mesh, grid) = match &cloth.mesh {
+        MeshSpec::Pattern(spec) => {
+            let sheet = pattern_sheet(spec, base_dir)
+                .map_err(|e| ("mesh.pattern".to_string(), e.to_string()))?;
+            model.add_paper(name, &sheet, cloth.material, spec.stiffness);
+            return Ok(());
+        }
         MeshSpec::Grid(g) => {
             let spec = GridSpec {
                 cols: g.resolution[0] as usize,
@@ -118,7 +106,7 @@ fn cloth_mesh(cloth: &ClothSpec, base_dir: &Path) -> Result<(Mesh, Option<GridSp
                 center: g.center,
                 alternate_diagonals: g.alternate_diagonals,
             };
-            Ok((spec.build(), Some(spec)))
+            (spec.build(), Some(spec))
         }
         MeshSpec::Obj(o) => {
             let mut mesh = load_obj(&base_dir.join(&o.path))
@@ -126,10 +114,13 @@ fn cloth_mesh(cloth: &ClothSpec, base_dir: &Path) -> Result<(Mesh, Option<GridSp
             for p in &mut mesh.positions {
                 *p = *p * o.scale + o.translate;
             }
-            Ok((mesh, None))
+            (mesh, None)
         }
-        MeshSpec::Pattern(_) => unreachable!("pattern cloths are built by add_paper"),
-    }
+    };
+    let pins = pins(cloth, &mesh, grid.as_ref())?;
+    model.add_cloth(name, mesh, cloth.material, &pins, cloth.tethers);
+    apply_stiffness_weights(model, cloth)
+        .map_err(|reason| ("stiffness_weights".to_string(), reason))
 }
 
 /// The sheet of a pattern cloth, placed at its centre.
