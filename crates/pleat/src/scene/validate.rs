@@ -2,6 +2,7 @@
 //! densities, zero radii. Every error found is reported, each with its path.
 
 use super::{ClothSpec, ColliderSpec, MeshSpec, Scene, SceneError, ShapeSpec};
+use crate::collide::SelfCollision;
 use crate::force::Wind;
 
 /// Collects the range errors of `scene`.
@@ -24,6 +25,7 @@ pub fn validate(scene: &Scene, file: &str) -> Vec<SceneError> {
         "must be between 1 and 1000",
     );
     v.non_negative("solver.damping", scene.solver.damping);
+    v.self_collision(&scene.solver.self_collision);
     v.check(
         !scene.cloths.is_empty(),
         "cloths",
@@ -157,6 +159,18 @@ impl Validator<'_> {
         self.non_negative(
             &format!("{path}.friction.kinetic"),
             c.friction.kinetic_coefficient,
+        );
+    }
+
+    fn self_collision(&mut self, s: &SelfCollision) {
+        self.positive("solver.self_collision.thickness", s.thickness);
+        self.non_negative(
+            "solver.self_collision.friction.static",
+            s.friction.static_coefficient,
+        );
+        self.non_negative(
+            "solver.self_collision.friction.kinetic",
+            s.friction.kinetic_coefficient,
         );
     }
 

@@ -7,6 +7,7 @@ pub mod xpbd;
 
 pub use xpbd::Xpbd;
 
+use crate::collide::SelfCollision;
 use crate::model::Model;
 use crate::particles::Particles;
 use crate::world::World;
@@ -33,6 +34,8 @@ pub struct SolverSettings {
     pub iterations: u32,
     /// Velocity damping rate (1/s): velocities lose `damping * dt` of themselves each substep.
     pub damping: f32,
+    /// Self-collision and cloth-cloth contact between all cloths.
+    pub self_collision: SelfCollision,
 }
 
 impl Default for SolverSettings {
@@ -42,6 +45,7 @@ impl Default for SolverSettings {
             substeps: 10,
             iterations: 1,
             damping: 0.1,
+            self_collision: SelfCollision::default(),
         }
     }
 }
@@ -55,6 +59,10 @@ pub struct StageTimes {
     pub collisions: Duration,
     /// Particle-collider contacts found, summed over substeps.
     pub contacts: u64,
+    /// Self-collision and cloth-cloth contacts (broad and narrow phase).
+    pub self_collision: Duration,
+    /// Self-contacts that acted, summed over substeps.
+    pub self_contacts: u64,
 }
 
 impl StageTimes {
