@@ -3,6 +3,7 @@
 
 mod bench;
 mod check;
+mod compare;
 mod output;
 mod report;
 mod run;
@@ -25,6 +26,8 @@ enum Command {
     Check(check::CheckArgs),
     /// Time the standard hanging cloth at several sizes.
     Bench(bench::BenchArgs),
+    /// Run one scene with every solver: table, stretch plot and stability sweep.
+    Compare(compare::CompareArgs),
 }
 
 fn main() -> ExitCode {
@@ -34,6 +37,7 @@ fn main() -> ExitCode {
         Some(Command::Run(args)) => run::run(&args),
         Some(Command::Check(args)) => check::check(&args),
         Some(Command::Bench(args)) => bench::bench(&args),
+        Some(Command::Compare(args)) => compare::compare(&args),
     };
     match result {
         Ok(code) => code,

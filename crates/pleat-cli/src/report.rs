@@ -1,7 +1,7 @@
 //! report.json: what a run measured (DESIGN.md section 5).
 
 use pleat::scene::Scene;
-use pleat::solver::StageTimes;
+use pleat::solver::{SolverKind, StageTimes};
 use pleat::Simulation;
 use serde::Serialize;
 use std::time::Duration;
@@ -10,7 +10,8 @@ use std::time::Duration;
 pub struct Report {
     pub scene: String,
     pub backend: String,
-    pub solver: String,
+    /// Serialised by its scene-file name (`xpbd`, ...).
+    pub solver: SolverKind,
     pub frames: u32,
     pub frame_dt: f32,
     pub substeps: u32,
@@ -27,6 +28,10 @@ pub struct Report {
     pub max_stretch: f32,
     pub mean_stretch: f32,
     pub nan: bool,
+    /// NaN/inf or runaway energy at any frame of the run.
+    pub unstable: bool,
+    /// Simulated time (s) of the first instability, if any.
+    pub unstable_at: Option<f32>,
     pub self_intersections: usize,
     pub collider_penetrations: usize,
     pub kinetic_energy: f32,
@@ -94,7 +99,7 @@ impl Report {
         Report {
             scene: scene.name.clone(),
             backend: backend.into(),
-            solver: format!("{:?}", sim.settings.kind).to_lowercase(),
+            solver: sim.settings.kind,
             frames,
             frame_dt: scene.frame_dt(),
             substeps: sim.settings.substeps,
@@ -110,6 +115,8 @@ impl Report {
             max_stretch: m.max_stretch,
             mean_stretch: m.mean_stretch,
             nan: m.nan,
+            unstable: m.unstable,
+            unstable_at: sim.stability.first.map(|(t, _)| t),
             self_intersections: m.self_intersections,
             collider_penetrations: m.collider_penetrations,
             kinetic_energy: m.kinetic_energy,
@@ -119,8 +126,8 @@ impl Report {
     /// One line for the terminal.
     pub fn summary_line(&self) -> String {
         format!(
-            "{}: {} frames, {} particles, {:.2} ms/frame (p95 {:.2}), max stretch {:.4}, nan {}, {} collider penetrations, {} self-intersections",
-            self.scene, self.frames, self.particles, self.ms_per_frame.mean, self.ms_per_frame.p95, self.max_stretch, self.nan,
+            "{}: {} frames, {} particles, {:.2} ms/frame (p95 {:.2}), max stretch {:.4}, nan {}, unstable {}, {} collider penetrations, {} self-intersections",
+            self.scene, self.frames, self.particles, self.ms_per_frame.mean, self.ms_per_frame.p95, self.max_stretch, self.nan, self.unstable,
             self.collider_penetrations, self.self_intersections
         )
     }

@@ -72,7 +72,7 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, String> {
         std::fs::write(&path, json + "\n").map_err(|e| format!("{}: {e}", path.display()))?;
         println!("wrote {}", path.display());
     }
-    Ok(if report.nan {
+    Ok(if report.nan || report.unstable {
         ExitCode::FAILURE
     } else {
         ExitCode::SUCCESS

@@ -4,13 +4,16 @@
 //! their topology ([`mesh`]), materials, constraints with their projections
 //! ([`constraint`]), the solvers ([`solver`]), forces ([`force`]), collisions
 //! ([`collide`]), origami crease patterns ([`origami`]), scene files
-//! ([`scene`]), quality metrics ([`metrics`]) and mesh export ([`export`]).
+//! ([`scene`]), quality metrics ([`metrics`]), instability detection
+//! ([`stability`]), the small linear algebra glam lacks ([`math`]) and mesh
+//! export ([`export`]).
 
 pub mod collide;
 pub mod constraint;
 pub mod export;
 pub mod force;
 pub mod material;
+pub mod math;
 pub mod mesh;
 pub mod metrics;
 pub mod model;
@@ -19,6 +22,7 @@ pub mod particles;
 pub mod scene;
 pub mod simulation;
 pub mod solver;
+pub mod stability;
 pub mod world;
 
 pub use glam;

@@ -1,4 +1,6 @@
-//! Cloth materials: mass density, compliances and contact thickness.
+//! Cloth materials: mass density, compliances (XPBD), spring constants
+//! (mass-spring), stiffness factors (PBD), stiffness variation over the cloth
+//! and contact thickness.
 
 use serde::{Deserialize, Serialize};
 
@@ -33,6 +35,40 @@ pub struct Material {
     pub bending: BendingModel,
     /// Distance kept from colliders (m).
     pub thickness: f32,
+    /// Spring constants ks of the mass-spring solver (N/m).
+    pub spring_stiffness: SpringCoefficients,
+    /// Spring damping kd of the mass-spring solver (N s/m), along each spring.
+    pub spring_damping: SpringCoefficients,
+    /// Stiffness factors in [0, 1] of the PBD solvers (shape matching, Jacobi).
+    pub pbd_stiffness: PbdStiffness,
+    /// Fraction of the classic solvers' stiffness lost linearly from the
+    /// nearest pin to the farthest point of the cloth, in [0, 1): 0.4 leaves
+    /// 60% of the stiffness at the far edge.
+    pub stiffness_gradient: f32,
+}
+
+/// One coefficient per kind of spring of the mass-spring solver.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpringCoefficients {
+    /// Springs along mesh edges (grid rows and columns).
+    pub structural: f32,
+    /// Springs along the quad diagonals of grid meshes.
+    pub shear: f32,
+    /// Skip-one springs: along grid rows and columns, or wing to wing.
+    pub bend: f32,
+}
+
+/// Stiffness factors of the PBD solvers: the fraction of the way to the goal
+/// positions each projection moves, so the effective stiffness depends on the
+/// iteration count and the step.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PbdStiffness {
+    /// Triangle shape matching, and stretch and shear distance constraints.
+    pub stretch: f32,
+    /// Shape matching of triangle pairs, and skip-one distance constraints.
+    pub bend: f32,
 }
 
 impl Default for Material {
@@ -44,6 +80,21 @@ impl Default for Material {
             bend_compliance: 1.0,
             bending: BendingModel::Isometric,
             thickness: 0.005,
+            spring_stiffness: SpringCoefficients {
+                structural: 5.0,
+                shear: 1.0,
+                bend: 0.2,
+            },
+            spring_damping: SpringCoefficients {
+                structural: 0.0,
+                shear: 0.0,
+                bend: 0.0,
+            },
+            pbd_stiffness: PbdStiffness {
+                stretch: 1.0,
+                bend: 0.1,
+            },
+            stiffness_gradient: 0.0,
         }
     }
 }

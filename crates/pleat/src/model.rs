@@ -28,6 +28,9 @@ pub struct ClothPart {
     pub offset: u32,
     /// Long-range attachments from this cloth's pins.
     pub tethers: bool,
+    /// Per vertex: factor on the classic solvers' stiffness, from the
+    /// material's stiffness gradient times the scene's per-vertex weights.
+    pub stiffness_weights: Vec<f32>,
 }
 
 impl ClothPart {
@@ -39,6 +42,40 @@ impl ClothPart {
     pub fn global(&self, local: u32) -> u32 {
         self.offset + local
     }
+
+    /// Stiffness factor of an element on cloth-local vertices: the mean of their weights.
+    pub fn stiffness_weight(&self, local: &[u32]) -> f32 {
+        let sum: f32 = local
+            .iter()
+            .map(|&i| self.stiffness_weights[i as usize])
+            .sum();
+        sum / local.len() as f32
+    }
+}
+
+/// Weights falling linearly from 1 at the pins to `1 - gradient` at the
+/// vertex farthest from any pin (rest distances); all 1 without pins.
+fn gradient_weights(mesh: &Mesh, gradient: f32, pins: &[Pin]) -> Vec<f32> {
+    let distance_to_pins: Vec<f32> = mesh
+        .positions
+        .iter()
+        .map(|x| {
+            pins.iter()
+                .map(|p| x.distance(mesh.positions[p.particle as usize]))
+                .fold(f32::INFINITY, f32::min)
+        })
+        .collect();
+    let far = distance_to_pins.iter().copied().fold(0.0, f32::max);
+    distance_to_pins
+        .iter()
+        .map(|&d| {
+            if gradient == 0.0 || !(far > 0.0 && d.is_finite()) {
+                1.0
+            } else {
+                1.0 - gradient * d / far
+            }
+        })
+        .collect()
 }
 
 /// An edge of the rest mesh, for stretch measurements.
@@ -96,6 +133,7 @@ impl Model {
             rest_length: mesh.positions[e.v[0] as usize].distance(mesh.positions[e.v[1] as usize]),
         }));
         self.rest.extend_from_slice(&mesh.positions);
+        let stiffness_weights = gradient_weights(&mesh, material.stiffness_gradient, pins);
         self.cloths.push(ClothPart {
             name: name.to_string(),
             mesh,
@@ -103,6 +141,7 @@ impl Model {
             material,
             offset,
             tethers,
+            stiffness_weights,
         });
     }
 

@@ -1,10 +1,11 @@
 //! A running simulation: the model, the world, the particles and the solver
-//! that advances them, with per-stage timings.
+//! that advances them, with per-stage timings and a watch for instability.
 
 use crate::metrics::Metrics;
 use crate::model::Model;
 use crate::particles::Particles;
 use crate::solver::{self, Solver, SolverSettings, StageTimes};
+use crate::stability::StabilityMonitor;
 use crate::world::World;
 
 pub struct Simulation {
@@ -13,6 +14,8 @@ pub struct Simulation {
     pub particles: Particles,
     pub settings: SolverSettings,
     pub stages: StageTimes,
+    /// Set when the solver first produces NaN/inf or runaway stretch.
+    pub stability: StabilityMonitor,
     solver: Box<dyn Solver>,
 }
 
@@ -26,6 +29,7 @@ impl Simulation {
             particles,
             settings,
             stages: StageTimes::default(),
+            stability: StabilityMonitor::default(),
             solver,
         }
     }
@@ -35,6 +39,8 @@ impl Simulation {
         self.solver
             .step(&mut self.particles, &self.world, frame_dt, &mut self.stages);
         self.world.time += frame_dt;
+        self.stability
+            .check(&self.model, &self.world, &self.particles);
     }
 
     pub fn constraint_count(&self) -> usize {
@@ -43,6 +49,8 @@ impl Simulation {
 
     /// Quality figures of the current state.
     pub fn metrics(&self) -> Metrics {
-        Metrics::measure(&self.model, &self.world, &self.particles)
+        let mut m = Metrics::measure(&self.model, &self.world, &self.particles);
+        m.unstable |= self.stability.is_unstable();
+        m
     }
 }

@@ -255,3 +255,115 @@ fn unreadable_file() {
         "{e}"
     );
 }
+
+/// GOOD with `fields` added to the cloth's material.
+fn with_material(fields: &str) -> String {
+    GOOD.replace(
+        "\"pins\"",
+        &format!("\"material\": {{ {fields} }}, \"pins\""),
+    )
+}
+
+#[test]
+fn negative_spring_stiffness() {
+    let json =
+        with_material("\"spring_stiffness\": { \"structural\": -5, \"shear\": 1, \"bend\": 0.1 }");
+    assert_error(
+        &json,
+        "cloths[0].material.spring_stiffness.structural",
+        "must be zero or positive",
+    );
+}
+
+#[test]
+fn negative_spring_damping() {
+    let json =
+        with_material("\"spring_damping\": { \"structural\": 0, \"shear\": 0, \"bend\": -1 }");
+    assert_error(
+        &json,
+        "cloths[0].material.spring_damping.bend",
+        "must be zero or positive",
+    );
+}
+
+#[test]
+fn unknown_spring_kind() {
+    let json = with_material(
+        "\"spring_stiffness\": { \"structural\": 5, \"shear\": 1, \"bend\": 0.1, \"twist\": 1 }",
+    );
+    assert_error(
+        &json,
+        "cloths[0].material.spring_stiffness",
+        "unknown field `twist`",
+    );
+}
+
+#[test]
+fn pbd_stiffness_above_one() {
+    let json = with_material("\"pbd_stiffness\": { \"stretch\": 1.5, \"bend\": 0.1 }");
+    assert_error(
+        &json,
+        "cloths[0].material.pbd_stiffness.stretch",
+        "must be between 0 and 1",
+    );
+}
+
+#[test]
+fn stiffness_gradient_of_one() {
+    let json = with_material("\"stiffness_gradient\": 1.0");
+    assert_error(
+        &json,
+        "cloths[0].material.stiffness_gradient",
+        "less than 1",
+    );
+}
+
+#[test]
+fn stiffness_weights_of_the_wrong_count() {
+    let json = GOOD.replace("\"pins\"", "\"stiffness_weights\": [1, 1, 1], \"pins\"");
+    assert_error(
+        &json,
+        "cloths[0].stiffness_weights",
+        "has 3 weights, the mesh has 16 vertices",
+    );
+}
+
+#[test]
+fn negative_stiffness_weight() {
+    let weights = format!("[{}-1]", "1, ".repeat(15));
+    let json = GOOD.replace(
+        "\"pins\"",
+        &format!("\"stiffness_weights\": {weights}, \"pins\""),
+    );
+    assert_error(
+        &json,
+        "cloths[0].stiffness_weights[15]",
+        "must be zero or positive",
+    );
+}
+
+#[test]
+fn global_damping_over_a_hundred_percent() {
+    let json = GOOD.replacen(
+        '{',
+        "{ \"solver\": { \"kind\": \"mass_spring\", \"global_damping\": 150 },",
+        1,
+    );
+    assert_error(&json, "solver.global_damping", "between 0 and 100");
+}
+
+#[test]
+fn relaxation_above_two() {
+    let json = GOOD.replacen(
+        '{',
+        "{ \"solver\": { \"kind\": \"jacobi_pbd\", \"relaxation\": 3 },",
+        1,
+    );
+    assert_error(&json, "solver.relaxation", "must be in (0, 2]");
+}
+
+#[test]
+fn unknown_solver_kind() {
+    let json = GOOD.replacen('{', "{ \"solver\": { \"kind\": \"implicit_euler\" },", 1);
+    assert_error(&json, "solver.kind", "unknown variant `implicit_euler`");
+}

@@ -25,6 +25,7 @@ fn grid_cloth(n: u32, size: f32, center: Vec3) -> ClothSpec {
         material: Default::default(),
         pins: Vec::new(),
         tethers: false,
+        stiffness_weights: Vec::new(),
     }
 }
 

@@ -6,15 +6,19 @@
 //! multiplier `lambda` per constraint:
 //! `dlambda = (-C - alpha~ lambda) / (sum_i w_i |grad_i C|^2 + alpha~)`,
 //! `alpha~ = alpha / dt^2`, `dx_i = w_i grad_i C dlambda` (Macklin et al. 2016).
+//! Shape matching is the exception: a PBD goal-position projection with a
+//! stiffness factor instead of a compliance.
 
 pub mod attachment;
 pub mod bending;
 pub mod distance;
 pub mod isometric_bending;
+pub mod shape_matching;
 pub mod tether;
 
 pub use attachment::Attachment;
 pub use bending::DihedralBending;
 pub use distance::DistanceConstraint;
 pub use isometric_bending::IsometricBending;
+pub use shape_matching::{PairShape, ShapeMatching, TriangleShape};
 pub use tether::Tether;

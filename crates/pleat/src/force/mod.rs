@@ -1,7 +1,10 @@
-//! External forces on the cloth: aerodynamic wind with turbulence. Gravity is
-//! a constant acceleration applied by the solvers' prediction step.
+//! Forces on the cloth: aerodynamic wind with turbulence, and the damped
+//! springs of the mass-spring solver. Gravity is a constant acceleration
+//! applied by the solvers' prediction step.
 
 pub mod noise;
+pub mod spring;
 pub mod wind;
 
+pub use spring::Spring;
 pub use wind::{Wind, WindForces};

@@ -13,6 +13,8 @@ pub struct Metrics {
     pub max_stretch: f32,
     pub mean_stretch: f32,
     pub nan: bool,
+    /// NaN/inf or runaway energy now, or (through [`crate::Simulation::metrics`]) at any frame so far.
+    pub unstable: bool,
     /// Pairs of triangles sharing no vertex that intersect.
     pub self_intersections: usize,
     /// Particles deeper than their thickness inside a collider.
@@ -28,6 +30,7 @@ impl Metrics {
             max_stretch,
             mean_stretch,
             nan,
+            unstable: crate::stability::instability(model, world, particles).is_some(),
             self_intersections: if nan {
                 0
             } else {

@@ -37,6 +37,13 @@ impl Scene {
                         cloth.name.clone()
                     };
                     model.add_cloth(&name, mesh, cloth.material, &pins, cloth.tethers);
+                    if let Err(reason) = apply_stiffness_weights(&mut model, cloth) {
+                        errors.push(SceneError {
+                            file: file.into(),
+                            path: format!("{path}.stiffness_weights"),
+                            reason,
+                        });
+                    }
                 }
                 Err((sub, reason)) => errors.push(SceneError {
                     file: file.into(),
@@ -55,6 +62,28 @@ impl Scene {
             time: 0.0,
         };
         Ok((model, world))
+    }
+}
+
+/// Multiplies the scene's per-vertex weights into the cloth just added.
+fn apply_stiffness_weights(model: &mut Model, cloth: &ClothSpec) -> Result<(), String> {
+    let part = model.cloths.last_mut().expect("a cloth was just added");
+    match cloth.stiffness_weights.len() {
+        0 => Ok(()),
+        n if n == part.stiffness_weights.len() => {
+            for (w, s) in part
+                .stiffness_weights
+                .iter_mut()
+                .zip(&cloth.stiffness_weights)
+            {
+                *w *= s;
+            }
+            Ok(())
+        }
+        n => Err(format!(
+            "has {n} weights, the mesh has {} vertices",
+            part.stiffness_weights.len()
+        )),
     }
 }
 

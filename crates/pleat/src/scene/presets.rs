@@ -34,6 +34,7 @@ pub fn hanging_cloth(n: u32, substeps: u32, tethers: bool) -> Scene {
                 ..PinSpec::default()
             }],
             tethers,
+            stiffness_weights: Vec::new(),
         }],
         colliders: Vec::new(),
         wind: None,

@@ -55,6 +55,10 @@ pub struct ClothSpec {
     /// Long-range attachments from the pins (limits stretch far from them).
     #[serde(default)]
     pub tethers: bool,
+    /// One weight per vertex on the classic solvers' stiffness (a spring gets
+    /// the mean of its two vertices' weights); empty for uniform stiffness.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub stiffness_weights: Vec<f32>,
 }
 
 /// Where a cloth's mesh comes from.

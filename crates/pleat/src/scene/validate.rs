@@ -4,6 +4,7 @@
 use super::{ClothSpec, ColliderSpec, MeshSpec, Scene, SceneError, ShapeSpec};
 use crate::collide::SelfCollision;
 use crate::force::Wind;
+use crate::material::Material;
 
 /// Collects the range errors of `scene`.
 pub fn validate(scene: &Scene, file: &str) -> Vec<SceneError> {
@@ -26,6 +27,16 @@ pub fn validate(scene: &Scene, file: &str) -> Vec<SceneError> {
     );
     v.non_negative("solver.damping", scene.solver.damping);
     v.self_collision(&scene.solver.self_collision);
+    v.check(
+        (0.0..=100.0).contains(&scene.solver.global_damping),
+        "solver.global_damping",
+        "must be a percentage between 0 and 100",
+    );
+    v.check(
+        scene.solver.relaxation > 0.0 && scene.solver.relaxation <= 2.0,
+        "solver.relaxation",
+        "must be in (0, 2]",
+    );
     v.check(
         !scene.cloths.is_empty(),
         "cloths",
@@ -122,6 +133,10 @@ impl Validator<'_> {
             m.bend_compliance,
         );
         self.non_negative(&format!("{path}.material.thickness"), m.thickness);
+        self.classic_material(&format!("{path}.material"), m);
+        for (k, &w) in cloth.stiffness_weights.iter().enumerate() {
+            self.non_negative(&format!("{path}.stiffness_weights[{k}]"), w);
+        }
         for (i, pin) in cloth.pins.iter().enumerate() {
             let p = format!("{path}.pins[{i}]");
             self.non_negative(&format!("{p}.compliance"), pin.compliance);
@@ -131,6 +146,36 @@ impl Validator<'_> {
                 "a pin group needs corners, edges or indices",
             );
         }
+    }
+
+    /// Spring constants, PBD stiffness factors and the stiffness gradient.
+    fn classic_material(&mut self, path: &str, m: &Material) {
+        for (name, c) in [
+            ("spring_stiffness", m.spring_stiffness),
+            ("spring_damping", m.spring_damping),
+        ] {
+            self.non_negative(&format!("{path}.{name}.structural"), c.structural);
+            self.non_negative(&format!("{path}.{name}.shear"), c.shear);
+            self.non_negative(&format!("{path}.{name}.bend"), c.bend);
+        }
+        for (name, k) in [
+            ("stretch", m.pbd_stiffness.stretch),
+            ("bend", m.pbd_stiffness.bend),
+        ] {
+            self.check(
+                (0.0..=1.0).contains(&k),
+                &format!("{path}.pbd_stiffness.{name}"),
+                &format!("must be between 0 and 1, got {k}"),
+            );
+        }
+        self.check(
+            (0.0..1.0).contains(&m.stiffness_gradient),
+            &format!("{path}.stiffness_gradient"),
+            &format!(
+                "must be at least 0 and less than 1, got {}",
+                m.stiffness_gradient
+            ),
+        );
     }
 
     fn collider(&mut self, path: &str, c: &ColliderSpec) {

@@ -2,9 +2,18 @@
 //! [`Solver`] interface, so scenes choose one by name.
 
 pub mod coloring;
+pub mod incidence;
+pub mod jacobi;
+pub mod mass_spring;
 pub mod parallel;
+pub mod position_based;
+pub mod shape_matching;
+pub mod springs;
 pub mod xpbd;
 
+pub use jacobi::JacobiPbd;
+pub use mass_spring::MassSpring;
+pub use shape_matching::PbdShapeMatching;
 pub use xpbd::Xpbd;
 
 use crate::collide::SelfCollision;
@@ -21,6 +30,32 @@ pub enum SolverKind {
     /// Extended position-based dynamics with small steps.
     #[default]
     Xpbd,
+    /// Mass-spring system with damped Verlet integration.
+    MassSpring,
+    /// Position-based dynamics with triangle and triangle-pair shape matching.
+    PbdShapeMatching,
+    /// Position-based dynamics with averaged, relaxed Jacobi corrections.
+    JacobiPbd,
+}
+
+impl SolverKind {
+    /// Every solver, XPBD first.
+    pub const ALL: [SolverKind; 4] = [
+        SolverKind::Xpbd,
+        SolverKind::MassSpring,
+        SolverKind::PbdShapeMatching,
+        SolverKind::JacobiPbd,
+    ];
+
+    /// The name scene files and reports use.
+    pub fn name(self) -> &'static str {
+        match self {
+            SolverKind::Xpbd => "xpbd",
+            SolverKind::MassSpring => "mass_spring",
+            SolverKind::PbdShapeMatching => "pbd_shape_matching",
+            SolverKind::JacobiPbd => "jacobi_pbd",
+        }
+    }
 }
 
 /// Settings shared by the solvers.
@@ -32,8 +67,14 @@ pub struct SolverSettings {
     pub substeps: u32,
     /// Constraint iterations per substep.
     pub iterations: u32,
-    /// Velocity damping rate (1/s): velocities lose `damping * dt` of themselves each substep.
+    /// Velocity damping rate (1/s): velocities lose `damping * dt` of themselves each substep
+    /// (the position-based solvers).
     pub damping: f32,
+    /// Mass-spring only: percent of the velocity removed each Verlet step, as
+    /// in the classic course cloth (`x += (x - x_prev) * (1 - global_damping / 100)`).
+    pub global_damping: f32,
+    /// Jacobi PBD only: relaxation factor omega in (0, 2] applied to the averaged corrections.
+    pub relaxation: f32,
     /// Self-collision and cloth-cloth contact between all cloths.
     pub self_collision: SelfCollision,
 }
@@ -45,6 +86,8 @@ impl Default for SolverSettings {
             substeps: 10,
             iterations: 1,
             damping: 0.1,
+            global_damping: 1.0,
+            relaxation: 1.5,
             self_collision: SelfCollision::default(),
         }
     }
@@ -96,5 +139,8 @@ pub trait Solver: Send {
 pub fn build(model: &Model, settings: &SolverSettings) -> Box<dyn Solver> {
     match settings.kind {
         SolverKind::Xpbd => Box::new(Xpbd::new(model, settings)),
+        SolverKind::MassSpring => Box::new(MassSpring::new(model, settings)),
+        SolverKind::PbdShapeMatching => Box::new(PbdShapeMatching::new(model, settings)),
+        SolverKind::JacobiPbd => Box::new(JacobiPbd::new(model, settings)),
     }
 }

@@ -6,6 +6,7 @@
 //! change of position.
 
 use super::parallel::ColoredConstraints;
+use super::springs::skip_one_pairs;
 use super::{SolverKind, SolverSettings, StageTimes};
 use crate::collide::{project_contacts, ColliderPose, SelfContacts};
 use crate::constraint::{
@@ -13,7 +14,6 @@ use crate::constraint::{
 };
 use crate::force::WindForces;
 use crate::material::BendingModel;
-use crate::mesh::GridSpec;
 use crate::model::{ClothPart, Model};
 use crate::particles::Particles;
 use crate::world::World;
@@ -218,7 +218,7 @@ impl super::Solver for Xpbd {
 }
 
 /// `v += dt g`, damping, `x_prev = x`, `x += dt v` for every dynamic particle.
-fn predict(p: &mut Particles, gravity: Vec3, damping: f32, dt: f32) {
+pub(super) fn predict(p: &mut Particles, gravity: Vec3, damping: f32, dt: f32) {
     let keep = (1.0 - damping * dt).max(0.0);
     (&mut p.x, &mut p.x_prev, &mut p.v, &p.inv_mass)
         .into_par_iter()
@@ -233,7 +233,7 @@ fn predict(p: &mut Particles, gravity: Vec3, damping: f32, dt: f32) {
 }
 
 /// `v = (x - x_prev) / dt`.
-fn update_velocities(p: &mut Particles, dt: f32) {
+pub(super) fn update_velocities(p: &mut Particles, dt: f32) {
     let inv_dt = 1.0 / dt;
     (&p.x, &p.x_prev, &mut p.v)
         .into_par_iter()
@@ -286,30 +286,7 @@ fn isometric_if_flat(d: &DihedralBending, rest: &[Vec3]) -> Option<IsometricBend
 
 /// Skip-one bending: along grid rows and columns, or wing to wing on other meshes.
 fn skip_one_constraints(cloth: &ClothPart, rest: &[Vec3]) -> Vec<DistanceConstraint> {
-    let pairs: Vec<[u32; 2]> = match cloth.mesh.grid {
-        Some([cols, rows]) => {
-            let spec = GridSpec::new(cols, rows, [1.0, 1.0]);
-            let mut pairs = Vec::new();
-            for r in 0..rows {
-                for c in 0..cols {
-                    if c + 2 < cols {
-                        pairs.push([spec.index(r, c), spec.index(r, c + 2)]);
-                    }
-                    if r + 2 < rows {
-                        pairs.push([spec.index(r, c), spec.index(r + 2, c)]);
-                    }
-                }
-            }
-            pairs
-        }
-        None => cloth
-            .topology
-            .pairs
-            .iter()
-            .map(|p| [p.v[2], p.v[3]])
-            .collect(),
-    };
-    pairs
+    skip_one_pairs(cloth)
         .into_iter()
         .map(|v| {
             DistanceConstraint::at_rest(

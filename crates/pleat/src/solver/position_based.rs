@@ -1,0 +1,192 @@
+//! What the classic solvers share around their own force or constraint
+//! step: hard pins that follow their motion, contacts with the colliders,
+//! and the plain position-based dynamics loop (Müller et al. 2007) that the
+//! shape-matching and Jacobi solvers run: per substep, predict positions
+//! from velocities, gravity and wind, put hard pins on their targets, let
+//! the solver project its constraints for a number of iterations, resolve
+//! contacts and derive velocities from the change of position.
+
+use super::parallel::ColoredConstraints;
+use super::xpbd::{predict, update_velocities};
+use super::{SolverSettings, StageTimes};
+use crate::collide::{project_contacts, ColliderPose};
+use crate::constraint::Attachment;
+use crate::force::WindForces;
+use crate::model::Model;
+use crate::particles::Particles;
+use crate::world::World;
+use glam::Vec3;
+
+/// Inverse particle masses of the model; zero for hard-pinned particles.
+pub fn inverse_masses(model: &Model) -> Vec<f32> {
+    model
+        .mass
+        .iter()
+        .map(|&m| if m > 0.0 { 1.0 / m } else { 0.0 })
+        .collect()
+}
+
+/// Attachments of the model, split into hard ones (kinematic particles put
+/// on their targets) and soft ones (pulled with a compliance).
+pub fn attachments(model: &Model) -> (HardPins, Vec<Attachment>) {
+    let (hard, soft) = model
+        .pins
+        .iter()
+        .map(|p| {
+            Attachment::new(
+                p.particle,
+                model.rest[p.particle as usize],
+                p.motion,
+                p.compliance,
+            )
+        })
+        .partition(Attachment::is_hard);
+    (HardPins(hard), soft)
+}
+
+/// Particles pinned with compliance zero: moved onto their targets.
+pub struct HardPins(Vec<Attachment>);
+
+impl HardPins {
+    pub fn len(&self) -> usize {
+        self.0.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+
+    /// Puts every pinned particle where its motion has its target at time `t`.
+    pub fn place(&mut self, x: &mut [Vec3], t: f32) {
+        for a in &mut self.0 {
+            a.update_target(t);
+            x[a.particle[0] as usize] = a.target;
+        }
+    }
+}
+
+/// Cloth-collider contacts with friction, over one step at a time.
+pub struct Contacts {
+    thickness: Vec<f32>,
+    poses: Vec<ColliderPose>,
+}
+
+impl Contacts {
+    pub fn new(model: &Model) -> Self {
+        Contacts {
+            thickness: model.thickness.clone(),
+            poses: Vec::new(),
+        }
+    }
+
+    /// Pushes the particles out of the colliders as they move from `t` to
+    /// `t + dt`, with friction on the motion since `x_prev`; adds the contacts to `stages`.
+    pub fn resolve(
+        &mut self,
+        p: &mut Particles,
+        world: &World,
+        t: f32,
+        dt: f32,
+        stages: &mut StageTimes,
+    ) {
+        let contacts = StageTimes::time(&mut stages.collisions, || {
+            self.poses.clear();
+            self.poses.extend(
+                world
+                    .colliders
+                    .iter()
+                    .map(|c| ColliderPose::over(c, t, t + dt)),
+            );
+            project_contacts(
+                &mut p.x,
+                &p.x_prev,
+                &p.inv_mass,
+                &self.thickness,
+                &world.colliders,
+                &self.poses,
+            )
+        });
+        stages.contacts += contacts as u64;
+    }
+}
+
+/// The PBD frame loop around a solver's constraint projection.
+pub struct PbdLoop {
+    settings: SolverSettings,
+    hard_pins: HardPins,
+    /// Solved with their XPBD compliance after each constraint iteration.
+    soft_pins: ColoredConstraints<Attachment>,
+    contacts: Contacts,
+    triangles: Vec<[u32; 3]>,
+    wind: WindForces,
+}
+
+impl PbdLoop {
+    pub fn new(model: &Model, settings: &SolverSettings) -> Self {
+        let n = model.particle_count();
+        let (hard_pins, soft) = attachments(model);
+        PbdLoop {
+            settings: *settings,
+            hard_pins,
+            soft_pins: ColoredConstraints::new(soft, n),
+            contacts: Contacts::new(model),
+            triangles: model.triangles.clone(),
+            wind: WindForces::new(&model.triangles, n),
+        }
+    }
+
+    /// Pins of both kinds.
+    pub fn pin_count(&self) -> usize {
+        self.hard_pins.len() + self.soft_pins.len()
+    }
+
+    /// Advances one frame; `project` runs one iteration of the solver's constraints.
+    pub fn step(
+        &mut self,
+        p: &mut Particles,
+        world: &World,
+        frame_dt: f32,
+        stages: &mut StageTimes,
+        mut project: impl FnMut(&mut Particles),
+    ) {
+        let substeps = self.settings.substeps.max(1);
+        let dt = frame_dt / substeps as f32;
+        for s in 0..substeps {
+            let t = world.time + s as f32 * dt;
+            self.substep(p, world, t, dt, stages, &mut project);
+        }
+    }
+
+    fn substep(
+        &mut self,
+        p: &mut Particles,
+        world: &World,
+        t: f32,
+        dt: f32,
+        stages: &mut StageTimes,
+        project: &mut impl FnMut(&mut Particles),
+    ) {
+        if let Some(wind) = &world.wind {
+            StageTimes::time(&mut stages.forces, || {
+                self.wind.apply(wind, &self.triangles, p, t, dt)
+            });
+        }
+        StageTimes::time(&mut stages.predict, || {
+            predict(p, world.gravity, self.settings.damping, dt);
+            self.hard_pins.place(&mut p.x, t + dt);
+        });
+        StageTimes::time(&mut stages.constraints, || {
+            for a in &mut self.soft_pins.items {
+                a.update_target(t + dt);
+            }
+            self.soft_pins.reset_lambda();
+            let inv_dt2 = 1.0 / (dt * dt);
+            for _ in 0..self.settings.iterations {
+                project(p);
+                self.soft_pins.solve(&mut p.x, &p.inv_mass, inv_dt2);
+            }
+        });
+        self.contacts.resolve(p, world, t, dt, stages);
+        StageTimes::time(&mut stages.predict, || update_velocities(p, dt));
+    }
+}

@@ -1,0 +1,186 @@
+//! Instability detection and the mechanical energy of a state.
+//!
+//! A solver that produces non-finite positions or velocities, or runaway
+//! energy (the way an explicit mass-spring cloth explodes), marks the
+//! simulation unstable instead of crashing; reports carry the flag.
+//!
+//! The mechanical energy is kinetic plus gravitational potential energy
+//! measured from the rest shape. A passive cloth starts at zero and can only
+//! lose it (its elastic energy is never negative), so energy far above what
+//! gravity, wind and moving pins or colliders could put in is runaway. The
+//! same figure lets solvers be compared on one scale whatever their elastic
+//! model.
+
+use crate::collide::Motion;
+use crate::model::Model;
+use crate::particles::Particles;
+use crate::world::World;
+use glam::Vec3;
+
+/// Mechanical energy above this many times [`energy_scale`] is runaway.
+pub const RUNAWAY_ENERGY: f32 = 100.0;
+
+/// Speed (m/s) added to the world's own, so that a still, weightless scene has a scale.
+const SPEED_FLOOR: f32 = 1.0;
+
+/// Why a state is unstable.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Instability {
+    /// A position or velocity is NaN or infinite.
+    NonFinite,
+    /// The mechanical energy exceeds [`RUNAWAY_ENERGY`] times [`energy_scale`].
+    Runaway,
+}
+
+/// The first instability a simulation ran into, and when.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StabilityMonitor {
+    /// Simulated time (s) and kind of the first instability.
+    pub first: Option<(f32, Instability)>,
+}
+
+impl StabilityMonitor {
+    /// Checks the state at the world's time; the first instability found is kept.
+    pub fn check(&mut self, model: &Model, world: &World, particles: &Particles) {
+        if self.first.is_none() {
+            self.first = instability(model, world, particles).map(|kind| (world.time, kind));
+        }
+    }
+
+    pub fn is_unstable(&self) -> bool {
+        self.first.is_some()
+    }
+}
+
+/// The instability of a state, if any.
+pub fn instability(model: &Model, world: &World, particles: &Particles) -> Option<Instability> {
+    if particles.has_non_finite() {
+        Some(Instability::NonFinite)
+    } else if mechanical_energy(model, world, particles)
+        > RUNAWAY_ENERGY * energy_scale(model, world)
+    {
+        Some(Instability::Runaway)
+    } else {
+        None
+    }
+}
+
+/// The energy a scene can plausibly hold (J): `M (|g| L + v^2 / 2)`, with `M`
+/// the dynamic mass, `L` the diagonal of the rest shape's bounding box and
+/// `v` the fastest the world moves (wind with its turbulence, scripted pins
+/// and colliders) plus one metre per second.
+pub fn energy_scale(model: &Model, world: &World) -> f32 {
+    let mass: f32 = model.mass.iter().sum();
+    let (lo, hi) = model.rest.iter().fold(
+        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+        |(lo, hi), x| (lo.min(*x), hi.max(*x)),
+    );
+    let (size, centre) = ((hi - lo).length().max(0.0), (lo + hi) / 2.0);
+    let wind = world.wind.map_or(0.0, |w| {
+        w.velocity.length() * (1.0 + w.turbulence * 3f32.sqrt())
+    });
+    let motions = model
+        .pins
+        .iter()
+        .map(|p| p.motion)
+        .chain(world.colliders.iter().map(|c| c.motion));
+    let moving = motions
+        .map(|m| motion_speed(&m, centre, size))
+        .fold(0.0, f32::max);
+    let v = SPEED_FLOOR + wind + moving;
+    mass * (world.gravity.length() * size + 0.5 * v * v)
+}
+
+/// A bound on the speed of a point of the scene (within `size` of `centre`) under `m`.
+fn motion_speed(m: &Motion, centre: Vec3, size: f32) -> f32 {
+    m.linear_velocity.length() + m.angular_velocity.length() * (size + m.pivot.distance(centre))
+}
+
+/// Kinetic energy plus gravitational potential energy relative to the rest
+/// shape, `sum m_i (v_i^2 / 2 - g . (x_i - rest_i))` over the dynamic particles (J).
+pub fn mechanical_energy(model: &Model, world: &World, particles: &Particles) -> f32 {
+    let potential: f32 = particles
+        .x
+        .iter()
+        .zip(&model.rest)
+        .zip(&particles.inv_mass)
+        .filter(|(_, &w)| w > 0.0)
+        .map(|((x, rest), w)| -world.gravity.dot(*x - *rest) / w)
+        .sum();
+    particles.kinetic_energy() + potential
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::Material;
+    use crate::mesh::GridSpec;
+    use glam::Vec3;
+
+    fn sheet() -> (Model, Particles) {
+        let mut model = Model::default();
+        model.add_cloth(
+            "sheet",
+            GridSpec::new(3, 3, [1.0, 1.0]).build(),
+            Material::default(),
+            &[],
+            false,
+        );
+        let particles = Particles::new(model.rest.clone(), &model.mass);
+        (model, particles)
+    }
+
+    #[test]
+    fn rest_state_is_stable_and_has_no_energy() {
+        let (model, particles) = sheet();
+        let world = World::default();
+        assert_eq!(instability(&model, &world, &particles), None);
+        assert_eq!(mechanical_energy(&model, &world, &particles), 0.0);
+    }
+
+    #[test]
+    fn non_finite_and_runaway_states_are_caught_once() {
+        let (model, mut particles) = sheet();
+        let mut world = World {
+            time: 0.5,
+            ..World::default()
+        };
+        particles.v[4] = Vec3::new(0.0, 300.0, 0.0);
+        let mut monitor = StabilityMonitor::default();
+        monitor.check(&model, &world, &particles);
+        particles.v[0].x = f32::NAN;
+        world.time = 1.0;
+        monitor.check(&model, &world, &particles);
+        assert_eq!(monitor.first, Some((0.5, Instability::Runaway)));
+        assert_eq!(
+            instability(&model, &world, &particles),
+            Some(Instability::NonFinite)
+        );
+    }
+
+    #[test]
+    fn strong_wind_raises_the_scale() {
+        let (model, mut particles) = sheet();
+        particles.v.fill(Vec3::new(0.0, 0.0, 60.0));
+        let mut world = World::default();
+        assert!(instability(&model, &world, &particles).is_some());
+        world.wind = Some(crate::force::Wind {
+            velocity: Vec3::new(0.0, 0.0, 60.0),
+            ..Default::default()
+        });
+        assert_eq!(instability(&model, &world, &particles), None);
+    }
+
+    #[test]
+    fn falling_trades_potential_for_kinetic_energy() {
+        let (model, mut particles) = sheet();
+        let world = World::default();
+        let (h, total_mass) = (2.0, 0.2);
+        for (x, v) in particles.x.iter_mut().zip(&mut particles.v) {
+            x.y -= h;
+            *v = Vec3::new(0.0, -(2.0 * 9.81 * h).sqrt(), 0.0);
+        }
+        let e = mechanical_energy(&model, &world, &particles);
+        assert!(e.abs() < 1e-4 * total_mass * 9.81 * h, "{e}");
+    }
+}
