@@ -58,11 +58,6 @@ struct BenchLine {
 
 pub fn bench(args: &BenchArgs) -> Result<ExitCode, String> {
     require_cpu(&args.backend)?;
-    if args.self_collision {
-        return Err(
-            "self-collision is not part of this build yet; run without --self-collision".into(),
-        );
-    }
     if let Some(&n) = args.sizes.iter().find(|&&n| !(2..=4096).contains(&n)) {
         return Err(format!("--sizes: {n} is out of range: sizes are 2 to 4096"));
     }
@@ -95,7 +90,8 @@ pub fn bench(args: &BenchArgs) -> Result<ExitCode, String> {
 }
 
 fn measure(args: &BenchArgs, n: u32) -> Result<BenchLine, String> {
-    let scene = hanging_cloth(n, args.substeps, args.tethers);
+    let mut scene = hanging_cloth(n, args.substeps, args.tethers);
+    scene.solver.self_collision.enabled = args.self_collision;
     let mut sim = scene
         .build(Path::new("."), &scene.name)
         .map_err(|e| e.to_string())?;
@@ -116,7 +112,7 @@ fn measure(args: &BenchArgs, n: u32) -> Result<BenchLine, String> {
         n,
         particles: sim.particles.len(),
         substeps: args.substeps,
-        self_collision: false,
+        self_collision: args.self_collision,
         ms_per_frame: t.mean,
         max_stretch: stretch(&sim.model, &sim.particles).0,
         p95_ms: t.p95,

@@ -25,6 +25,8 @@ pub struct Report {
     pub ms_per_frame: FrameTimes,
     pub stages_ms: StagesMs,
     pub contacts_per_frame: f64,
+    /// Self-collision and cloth-cloth contacts that acted, per frame.
+    pub self_contacts_per_frame: f64,
     pub max_stretch: f32,
     pub mean_stretch: f32,
     pub nan: bool,
@@ -72,6 +74,7 @@ pub struct StagesMs {
     pub predict: f64,
     pub constraints: f64,
     pub collisions: f64,
+    pub self_collision: f64,
 }
 
 impl StagesMs {
@@ -82,6 +85,7 @@ impl StagesMs {
             predict: per(stages.predict),
             constraints: per(stages.constraints),
             collisions: per(stages.collisions),
+            self_collision: per(stages.self_collision),
         }
     }
 }
@@ -132,6 +136,7 @@ impl Report {
             ms_per_frame: FrameTimes::from(frame_times),
             stages_ms: StagesMs::from(&sim.stages, frames),
             contacts_per_frame: sim.stages.contacts as f64 / frames.max(1) as f64,
+            self_contacts_per_frame: sim.stages.self_contacts as f64 / frames.max(1) as f64,
             max_stretch: m.max_stretch,
             mean_stretch: m.mean_stretch,
             nan: m.nan,
@@ -175,8 +180,8 @@ impl Report {
     pub fn profile_text(&self) -> String {
         let s = &self.stages_ms;
         format!(
-            "profile (ms per frame): forces {:.3}, predict {:.3}, constraints {:.3}, collisions {:.3}; {:.1} contacts per frame",
-            s.forces, s.predict, s.constraints, s.collisions, self.contacts_per_frame
+            "profile (ms per frame): forces {:.3}, predict {:.3}, constraints {:.3}, collisions {:.3}, self-collision {:.3}; {:.1} contacts, {:.1} self-contacts per frame",
+            s.forces, s.predict, s.constraints, s.collisions, s.self_collision, self.contacts_per_frame, self.self_contacts_per_frame
         )
     }
 }

@@ -367,3 +367,13 @@ fn unknown_solver_kind() {
     let json = GOOD.replacen('{', "{ \"solver\": { \"kind\": \"implicit_euler\" },", 1);
     assert_error(&json, "solver.kind", "unknown variant `implicit_euler`");
 }
+
+#[test]
+fn self_collision_needs_xpbd() {
+    let json = GOOD.replacen(
+        '{',
+        "{ \"solver\": { \"kind\": \"mass_spring\", \"self_collision\": { \"enabled\": true } },",
+        1,
+    );
+    assert_error(&json, "solver.self_collision", "only by the xpbd solver");
+}

@@ -1,12 +1,17 @@
 //! Collisions: collider shapes, their scripted motion and the cloth-collider
-//! contact projection with Coulomb friction.
+//! contact projection with Coulomb friction; self-collision and cloth-cloth
+//! contact over a spatial hash grid, with continuous collision detection.
 
+pub mod ccd;
 mod contact;
+pub mod hash_grid;
 mod motion;
+pub mod self_contact;
 mod shape;
 
 pub use contact::{project_contacts, ColliderPose};
 pub use motion::Motion;
+pub use self_contact::{SelfCollision, SelfContactStats, SelfContacts};
 pub use shape::Shape;
 
 use serde::{Deserialize, Serialize};

@@ -4,6 +4,7 @@
 use super::{
     ClothSpec, ColliderSpec, FoldSpec, MeshSpec, PatternMeshSpec, Scene, SceneError, ShapeSpec,
 };
+use crate::collide::SelfCollision;
 use crate::force::Wind;
 use crate::material::Material;
 use crate::origami::{builtin, BUILTIN_NAMES};
@@ -29,6 +30,7 @@ pub fn validate(scene: &Scene, file: &str) -> Vec<SceneError> {
         "must be between 1 and 1000",
     );
     v.non_negative("solver.damping", scene.solver.damping);
+    v.self_collision(&scene.solver.self_collision);
     v.check(
         (0.0..=100.0).contains(&scene.solver.global_damping),
         "solver.global_damping",
@@ -62,6 +64,13 @@ pub fn validate(scene: &Scene, file: &str) -> Vec<SceneError> {
             scene.solver.kind == SolverKind::Xpbd,
             "solver.kind",
             "pattern cloths fold only with the xpbd solver",
+        );
+    }
+    if scene.solver.self_collision.enabled {
+        v.check(
+            scene.solver.kind == SolverKind::Xpbd,
+            "solver.self_collision",
+            "self-collision is solved only by the xpbd solver",
         );
     }
     if let Some(fold) = &scene.fold {
@@ -278,6 +287,18 @@ impl Validator<'_> {
         self.non_negative(
             &format!("{path}.friction.kinetic"),
             c.friction.kinetic_coefficient,
+        );
+    }
+
+    fn self_collision(&mut self, s: &SelfCollision) {
+        self.positive("solver.self_collision.thickness", s.thickness);
+        self.non_negative(
+            "solver.self_collision.friction.static",
+            s.friction.static_coefficient,
+        );
+        self.non_negative(
+            "solver.self_collision.friction.kinetic",
+            s.friction.kinetic_coefficient,
         );
     }
 

@@ -16,6 +16,7 @@ pub use mass_spring::MassSpring;
 pub use shape_matching::PbdShapeMatching;
 pub use xpbd::Xpbd;
 
+use crate::collide::SelfCollision;
 use crate::model::Model;
 use crate::particles::Particles;
 use crate::world::World;
@@ -74,6 +75,8 @@ pub struct SolverSettings {
     pub global_damping: f32,
     /// Jacobi PBD only: relaxation factor omega in (0, 2] applied to the averaged corrections.
     pub relaxation: f32,
+    /// Self-collision and cloth-cloth contact between all cloths.
+    pub self_collision: SelfCollision,
 }
 
 impl Default for SolverSettings {
@@ -85,6 +88,7 @@ impl Default for SolverSettings {
             damping: 0.1,
             global_damping: 1.0,
             relaxation: 1.5,
+            self_collision: SelfCollision::default(),
         }
     }
 }
@@ -98,6 +102,10 @@ pub struct StageTimes {
     pub collisions: Duration,
     /// Particle-collider contacts found, summed over substeps.
     pub contacts: u64,
+    /// Self-collision and cloth-cloth contacts (broad and narrow phase).
+    pub self_collision: Duration,
+    /// Self-contacts that acted, summed over substeps.
+    pub self_contacts: u64,
 }
 
 impl StageTimes {

@@ -1,13 +1,14 @@
 //! XPBD with small steps (Macklin et al. 2016, 2019): each frame is cut into
 //! substeps; each substep predicts positions from velocities and external
 //! forces, projects the constraints (graph-coloured Gauss-Seidel, colours in
-//! parallel) with compliance and Lagrange multipliers, resolves contacts and
-//! derives velocities from the change of position.
+//! parallel) with compliance and Lagrange multipliers, resolves self-contacts
+//! (when enabled) and collider contacts and derives velocities from the
+//! change of position.
 
 use super::parallel::ColoredConstraints;
 use super::springs::skip_one_pairs;
 use super::{SolverKind, SolverSettings, StageTimes};
-use crate::collide::{project_contacts, ColliderPose};
+use crate::collide::{project_contacts, ColliderPose, SelfContacts};
 use crate::constraint::{
     Attachment, DihedralBending, DistanceConstraint, IsometricBending, OrigamiHinge, Tether,
 };
@@ -39,6 +40,8 @@ pub struct Xpbd {
     thickness: Vec<f32>,
     wind: WindForces,
     poses: Vec<ColliderPose>,
+    /// Self-collision and cloth-cloth contact, when enabled.
+    self_contacts: Option<SelfContacts>,
 }
 
 impl Xpbd {
@@ -120,6 +123,10 @@ impl Xpbd {
             thickness: model.thickness.clone(),
             wind: WindForces::new(&model.triangles, n),
             poses: Vec::new(),
+            self_contacts: settings
+                .self_collision
+                .enabled
+                .then(|| SelfContacts::new(model, settings.self_collision)),
         }
     }
 
@@ -147,6 +154,12 @@ impl Xpbd {
         StageTimes::time(&mut stages.constraints, || {
             self.project_constraints(p, t + dt, dt)
         });
+        if let Some(self_contacts) = &mut self.self_contacts {
+            let found = StageTimes::time(&mut stages.self_collision, || {
+                self_contacts.project(&mut p.x, &p.x_prev, &p.inv_mass)
+            });
+            stages.self_contacts += found.active as u64;
+        }
         let contacts = StageTimes::time(&mut stages.collisions, || {
             self.poses.clear();
             self.poses.extend(

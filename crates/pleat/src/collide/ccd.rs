@@ -1,0 +1,235 @@
+//! Continuous collision detection of a vertex against a triangle (Provot 1997;
+//! Bridson et al. 2002): with every point moving linearly over the substep,
+//! the vertex meets the triangle's plane when the triple product
+//! `(b - a) x (c - a) . (p - a)`, a cubic in `t`, vanishes. The cubic is split
+//! at the roots of its derivative into monotone pieces, each bracketed and
+//! solved by safeguarded Newton iteration, earliest first; a root counts when
+//! the vertex lies inside the triangle at that time.
+//!
+//! The arithmetic is `f64`: the triple product of small cloth edges is tiny.
+
+use glam::{DVec3, Vec3};
+
+/// Slack on barycentric coordinates when testing "inside the triangle".
+const INSIDE_TOLERANCE: f64 = 1e-3;
+/// Newton steps per monotone piece (bisection takes over when Newton strays).
+const MAX_STEPS: usize = 40;
+
+/// Positions of one point at the start and end of the substep.
+#[derive(Clone, Copy, Debug)]
+pub struct Sweep {
+    pub start: Vec3,
+    pub end: Vec3,
+}
+
+/// Where a vertex first hits a triangle: the time in `[0, 1]` and the
+/// barycentric coordinates of the hit point on the triangle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    pub t: f32,
+    pub barycentric: [f32; 3],
+}
+
+/// The earliest time the vertex `p` crosses the triangle `abc`, if it does.
+pub fn vertex_triangle(p: Sweep, a: Sweep, b: Sweep, c: Sweep) -> Option<Hit> {
+    let at = |s: Sweep, t: f64| s.start.as_dvec3() + (s.end - s.start).as_dvec3() * t;
+    let k = coplanarity_cubic(p, a, b, c);
+    let mut found = None;
+    for_each_root(k, |t| {
+        let bary = barycentric(at(p, t), at(a, t), at(b, t), at(c, t))?;
+        found = Some(Hit {
+            t: t as f32,
+            barycentric: bary.map(|x| x as f32),
+        });
+        Some(())
+    });
+    found
+}
+
+/// Coefficients `k[0] + k[1] t + k[2] t^2 + k[3] t^3` of the triple product.
+fn coplanarity_cubic(p: Sweep, a: Sweep, b: Sweep, c: Sweep) -> [f64; 4] {
+    let rel = |s: Sweep| {
+        (
+            (s.start - a.start).as_dvec3(),
+            ((s.end - s.start) - (a.end - a.start)).as_dvec3(),
+        )
+    };
+    let (e1, v1) = rel(b);
+    let (e2, v2) = rel(c);
+    let (q, vq) = rel(p);
+    let n0 = e1.cross(e2);
+    let n1 = e1.cross(v2) + v1.cross(e2);
+    let n2 = v1.cross(v2);
+    [
+        n0.dot(q),
+        n0.dot(vq) + n1.dot(q),
+        n1.dot(vq) + n2.dot(q),
+        n2.dot(vq),
+    ]
+}
+
+fn eval(k: [f64; 4], t: f64) -> f64 {
+    ((k[3] * t + k[2]) * t + k[1]) * t + k[0]
+}
+
+fn derivative(k: [f64; 4], t: f64) -> f64 {
+    (3.0 * k[3] * t + 2.0 * k[2]) * t + k[1]
+}
+
+/// Calls `accept` on the roots of the cubic in `[0, 1]`, earliest first,
+/// until it returns `Some`.
+fn for_each_root(k: [f64; 4], mut accept: impl FnMut(f64) -> Option<()>) {
+    let mut bounds = [0.0, 1.0, 1.0, 1.0];
+    let mut len = 1;
+    for t in critical_points(k) {
+        if t > bounds[len - 1] && t < 1.0 {
+            bounds[len] = t;
+            len += 1;
+        }
+    }
+    bounds[len] = 1.0;
+    for w in bounds[..=len].windows(2) {
+        if let Some(t) = monotone_root(k, w[0], w[1]) {
+            if accept(t).is_some() {
+                return;
+            }
+        }
+    }
+}
+
+/// Roots of the derivative in `(0, 1)`, sorted (NaN where there is none).
+fn critical_points(k: [f64; 4]) -> [f64; 2] {
+    let (qa, qb, qc) = (3.0 * k[3], 2.0 * k[2], k[1]);
+    let scale = qa.abs().max(qb.abs()).max(qc.abs());
+    if scale == 0.0 {
+        return [f64::NAN; 2];
+    }
+    if qa.abs() <= 1e-12 * scale {
+        return [if qb != 0.0 { -qc / qb } else { f64::NAN }, f64::NAN];
+    }
+    let disc = qb * qb - 4.0 * qa * qc;
+    if disc < 0.0 {
+        return [f64::NAN; 2];
+    }
+    // Numerically stable quadratic roots.
+    let q = -0.5 * (qb + qb.signum() * disc.sqrt());
+    let (r1, r2) = (q / qa, if q != 0.0 { qc / q } else { f64::NAN });
+    [r1.min(r2), r1.max(r2)]
+}
+
+/// The root of a cubic that is monotone on `[lo, hi]`, if it changes sign there.
+fn monotone_root(k: [f64; 4], mut lo: f64, mut hi: f64) -> Option<f64> {
+    let (mut f_lo, f_hi) = (eval(k, lo), eval(k, hi));
+    if f_lo == 0.0 {
+        return Some(lo);
+    }
+    if f_lo.signum() == f_hi.signum() {
+        return None;
+    }
+    let mut t = 0.5 * (lo + hi);
+    for _ in 0..MAX_STEPS {
+        let f = eval(k, t);
+        if f == 0.0 {
+            return Some(t);
+        }
+        if f.signum() == f_lo.signum() {
+            lo = t;
+            f_lo = f;
+        } else {
+            hi = t;
+        }
+        let d = derivative(k, t);
+        let newton = t - f / d;
+        t = if d != 0.0 && newton > lo && newton < hi {
+            newton
+        } else {
+            0.5 * (lo + hi)
+        };
+        if hi - lo < 1e-9 {
+            break;
+        }
+    }
+    Some(t)
+}
+
+/// Barycentric coordinates of `p` projected onto the triangle's plane, if the
+/// projection lies inside the triangle (within [`INSIDE_TOLERANCE`]).
+fn barycentric(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> Option<[f64; 3]> {
+    let (ab, ac, ap) = (b - a, c - a, p - a);
+    let (d00, d01, d11) = (ab.dot(ab), ab.dot(ac), ac.dot(ac));
+    let (d20, d21) = (ap.dot(ab), ap.dot(ac));
+    let denom = d00 * d11 - d01 * d01;
+    if denom <= 0.0 {
+        return None;
+    }
+    let v = (d11 * d20 - d01 * d21) / denom;
+    let w = (d00 * d21 - d01 * d20) / denom;
+    let u = 1.0 - v - w;
+    [u, v, w]
+        .iter()
+        .all(|&x| x >= -INSIDE_TOLERANCE)
+        .then_some([u, v, w])
+}
+
+/// Barycentric coordinates of the projection of `p` onto the triangle `abc`,
+/// if it falls inside; for discrete (proximity) contacts.
+pub fn projection_inside(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Option<[f32; 3]> {
+    barycentric(p.as_dvec3(), a.as_dvec3(), b.as_dvec3(), c.as_dvec3()).map(|b| b.map(|x| x as f32))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn still(p: Vec3) -> Sweep {
+        Sweep { start: p, end: p }
+    }
+
+    fn unit_triangle() -> [Sweep; 3] {
+        [
+            still(Vec3::new(0.0, 0.0, 0.0)),
+            still(Vec3::new(1.0, 0.0, 0.0)),
+            still(Vec3::new(0.0, 0.0, 1.0)),
+        ]
+    }
+
+    #[test]
+    fn vertex_through_a_still_triangle() {
+        let [a, b, c] = unit_triangle();
+        let p = Sweep {
+            start: Vec3::new(0.25, 1.0, 0.25),
+            end: Vec3::new(0.25, -3.0, 0.25),
+        };
+        let hit = vertex_triangle(p, a, b, c).expect("crosses");
+        assert!((hit.t - 0.25).abs() < 1e-6, "{hit:?}");
+        assert!((hit.barycentric[1] - 0.25).abs() < 1e-5);
+    }
+
+    #[test]
+    fn vertex_passing_beside_the_triangle_is_no_hit() {
+        let [a, b, c] = unit_triangle();
+        let p = Sweep {
+            start: Vec3::new(0.8, 1.0, 0.8),
+            end: Vec3::new(0.8, -1.0, 0.8),
+        };
+        assert_eq!(vertex_triangle(p, a, b, c), None);
+    }
+
+    #[test]
+    fn rotating_triangle_sweeps_over_a_still_vertex() {
+        // The triangle flips from above the vertex to below it, crossing it
+        // only through a nonlinear (cubic) path.
+        let a = still(Vec3::ZERO);
+        let b = Sweep {
+            start: Vec3::new(1.0, 0.5, 0.0),
+            end: Vec3::new(1.0, -0.5, 0.0),
+        };
+        let c = Sweep {
+            start: Vec3::new(0.0, 0.5, 1.0),
+            end: Vec3::new(0.0, -0.5, 1.0),
+        };
+        let p = still(Vec3::new(0.3, 0.0, 0.3));
+        let hit = vertex_triangle(p, a, b, c).expect("swept over");
+        assert!((hit.t - 0.5).abs() < 1e-5, "{hit:?}");
+    }
+}
