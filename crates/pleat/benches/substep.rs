@@ -19,10 +19,14 @@ fn hanging(n: u32, bending: pleat::material::BendingModel) -> Simulation {
 }
 
 fn substep(c: &mut Criterion) {
-    use pleat::material::BendingModel::{Dihedral, SkipOne};
+    use pleat::material::BendingModel::{Dihedral, Isometric, SkipOne};
     let mut group = c.benchmark_group("xpbd_substep");
     for n in [64, 128] {
-        for (name, bending) in [("dihedral", Dihedral), ("skip_one", SkipOne)] {
+        for (name, bending) in [
+            ("isometric", Isometric),
+            ("dihedral", Dihedral),
+            ("skip_one", SkipOne),
+        ] {
             let mut sim = hanging(n, bending);
             group.bench_with_input(BenchmarkId::new(name, n), &n, |b, _| {
                 b.iter(|| black_box(&mut sim).step(1.0 / 600.0))
