@@ -25,6 +25,8 @@ use std::fmt;
 const LEAF_SIZE: usize = 4;
 /// A node farther than this many radii away is summed as one dipole.
 const FAR_FIELD: f32 = 2.0;
+/// Distances below this, relative to the coordinates, are rounding: on the surface.
+const ON_SURFACE: f32 = 1e-6;
 /// Deeper than any median-split hierarchy of `u32` triangles needs.
 const STACK_DEPTH: usize = 64;
 
@@ -272,13 +274,13 @@ impl MeshCollider {
 
     /// Signed distance (negative inside) and the outward unit normal: the
     /// direction from the closest point to `p`, flipped inside, or the face
-    /// normal on the surface. Infinitely far, facing up, without triangles.
+    /// normal on the surface (within rounding of it, where that direction is noise). Infinitely far, facing up, without triangles.
     pub fn signed_distance(&self, p: Vec3) -> (f32, Vec3) {
         let Some(closest) = self.closest_point(p) else {
             return (f32::INFINITY, Vec3::Y);
         };
         let distance = closest.distance_squared.sqrt();
-        if distance == 0.0 {
+        if distance <= ON_SURFACE * (1.0 + p.abs().max_element()) {
             let [a, b, c] = self.corners(&self.triangles[closest.triangle]);
             return (0.0, (b - a).cross(c - a).normalize_or(Vec3::Y));
         }

@@ -7,8 +7,8 @@
 //! The grid covers the mesh's box padded by [`PADDING_CELLS`] cells. A query
 //! outside the grid's box is clamped to it: its distance is the distance to
 //! the box plus the interpolated value at the clamped point (an upper bound
-//! of the true distance, exact far away), and its normal points from the box
-//! to the query. Baking costs one mesh query per node, spread over threads.
+//! of the true distance, up to interpolation error, and the relative error
+//! shrinks far away), and its normal is the gradient of that sum. Baking costs one mesh query per node, spread over threads.
 
 use super::mesh_collider::{Aabb, MeshCollider};
 use glam::Vec3;
@@ -105,14 +105,30 @@ impl SdfGrid {
         self.origin + Vec3::new((nx - 1) as f32, (ny - 1) as f32, (nz - 1) as f32) * self.cell_size
     }
 
+    /// The box the grid's nodes span.
+    pub fn bounds(&self) -> Aabb {
+        Aabb {
+            min: self.origin,
+            max: self.far_corner(),
+        }
+    }
+
     /// Signed distance (negative inside) and outward unit normal at `p`.
+    /// Outside the grid's box, the distance to the box plus the value at the
+    /// nearest point of the box, and the gradient of that sum: the direction
+    /// away from the box plus the interpolant's gradient along the axes on
+    /// which `p` is within the box.
     pub fn signed_distance(&self, p: Vec3) -> (f32, Vec3) {
         let q = p.clamp(self.origin, self.far_corner());
         let (value, gradient) = self.trilinear(q);
         let outside = p - q;
         let gap = outside.length();
         if gap > 0.0 {
-            (gap + value, outside / gap)
+            let free = Vec3::select(outside.cmpeq(Vec3::ZERO), gradient, Vec3::ZERO);
+            (
+                gap + value,
+                (outside / gap + free).normalize_or(outside / gap),
+            )
         } else {
             (value, gradient.normalize_or(Vec3::Y))
         }
