@@ -81,21 +81,13 @@ impl Xpbd {
             }
             if cloth.tethers {
                 let pins = model.hard_pins_of(cloth);
-                let range = cloth.particles();
-                tethers.extend(
-                    Tether::from_pins(
-                        &model.rest[range.clone()],
-                        &inv_mass[range],
-                        &pins_local(&pins, cloth),
-                        TETHERS_PER_PARTICLE,
-                    )
-                    .into_iter()
-                    .map(|t| Tether {
-                        particle: [cloth.global(t.particle[0])],
-                        pin: cloth.global(t.pin),
-                        ..t
-                    }),
-                );
+                tethers.extend(Tether::from_pins(
+                    &model.rest,
+                    &inv_mass,
+                    cloth.particles(),
+                    &pins,
+                    TETHERS_PER_PARTICLE,
+                ));
             }
         }
         let (hard, soft): (Vec<_>, Vec<_>) = model
@@ -266,11 +258,6 @@ pub(super) fn update_velocities(p: &mut Particles, dt: f32) {
         .into_par_iter()
         .with_min_len(2048)
         .for_each(|(x, x_prev, v)| *v = (*x - *x_prev) * inv_dt);
-}
-
-/// Pins given as global indices, made local to `cloth`.
-fn pins_local(pins: &[u32], cloth: &ClothPart) -> Vec<u32> {
-    pins.iter().map(|&p| p - cloth.offset).collect()
 }
 
 /// Stretch and shear constraints on every mesh edge.
