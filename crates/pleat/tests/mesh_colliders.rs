@@ -158,6 +158,25 @@ fn mesh_collider_signed_distance_equals_brute_force() {
 }
 
 #[test]
+fn contact_query_stops_at_its_reach() {
+    let bunny = shipped_mesh("bunny.obj", 0.05);
+    let mut near = 0;
+    for p in random_points(bunny.bounds(), 0.1, 3000) {
+        let (d, n) = bunny.signed_distance(p);
+        for reach in [0.0, 0.005, 0.02] {
+            match bunny.signed_distance_within(p, reach) {
+                Some(within) => {
+                    assert_eq!(within, (d, n), "at {p}, reach {reach}");
+                    near += 1;
+                }
+                None => assert!(d >= reach, "at {p}: {d} is within {reach}"),
+            }
+        }
+    }
+    assert!(near > 100, "only {near} queries within reach");
+}
+
+#[test]
 fn baked_sdf_sign_and_distance_within_a_cell() {
     let cell = 0.01;
     for mesh in [

@@ -199,14 +199,21 @@ impl MeshCollider {
         self.nodes[index].count = 0;
     }
 
-    /// The nearest point of the mesh to `p`: a best-first descent that skips
-    /// every box farther than the best triangle so far. `None` without triangles.
+    /// The nearest point of the mesh to `p`. `None` without triangles.
     pub fn closest_point(&self, p: Vec3) -> Option<Closest> {
+        self.closest_point_within(p, f32::INFINITY)
+    }
+
+    /// The nearest point of the mesh to `p` if it is nearer than
+    /// `sqrt(limit_squared)`: a best-first descent that skips every box
+    /// farther than the limit or the best triangle so far, so a small limit
+    /// makes a far query cheap.
+    pub fn closest_point_within(&self, p: Vec3, limit_squared: f32) -> Option<Closest> {
         let mut best: Option<Closest> = None;
         let mut stack = Stack::with_root(!self.nodes.is_empty());
         while let Some(index) = stack.pop() {
             let node = &self.nodes[index as usize];
-            let mut bound = best.map_or(f32::INFINITY, |b| b.distance_squared);
+            let mut bound = best.map_or(limit_squared, |b| b.distance_squared);
             if node.bounds.distance_squared(p) >= bound {
                 continue;
             }
@@ -274,18 +281,35 @@ impl MeshCollider {
 
     /// Signed distance (negative inside) and the outward unit normal: the
     /// direction from the closest point to `p`, flipped inside, or the face
-    /// normal on the surface (within rounding of it, where that direction is noise). Infinitely far, facing up, without triangles.
+    /// normal on the surface (within rounding of it, where that direction is
+    /// noise). Infinitely far, facing up, without triangles.
     pub fn signed_distance(&self, p: Vec3) -> (f32, Vec3) {
-        let Some(closest) = self.closest_point(p) else {
-            return (f32::INFINITY, Vec3::Y);
-        };
+        match self.closest_point(p) {
+            Some(closest) => self.signed(p, closest, self.contains(p)),
+            None => (f32::INFINITY, Vec3::Y),
+        }
+    }
+
+    /// [`Self::signed_distance`] where it is below `reach`, `None` beyond:
+    /// for contacts, where the closest-point search outside the mesh stops at
+    /// `reach` (inside, the whole distance is needed to push out).
+    pub fn signed_distance_within(&self, p: Vec3, reach: f32) -> Option<(f32, Vec3)> {
+        let inside = self.contains(p);
+        let limit_squared = if inside { f32::INFINITY } else { reach * reach };
+        self.closest_point_within(p, limit_squared)
+            .map(|closest| self.signed(p, closest, inside))
+            .filter(|&(d, _)| d < reach)
+    }
+
+    /// The signed distance and normal at `p` from its closest point.
+    fn signed(&self, p: Vec3, closest: Closest, inside: bool) -> (f32, Vec3) {
         let distance = closest.distance_squared.sqrt();
         if distance <= ON_SURFACE * (1.0 + p.abs().max_element()) {
             let [a, b, c] = self.corners(&self.triangles[closest.triangle]);
             return (0.0, (b - a).cross(c - a).normalize_or(Vec3::Y));
         }
         let away = (p - closest.point) / distance;
-        if self.contains(p) {
+        if inside {
             (-distance, -away)
         } else {
             (distance, away)

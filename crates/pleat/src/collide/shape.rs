@@ -60,6 +60,16 @@ impl Shape {
             Shape::Sdf(grid) => grid.signed_distance(p),
         }
     }
+
+    /// The signed distance and normal where the distance is below `reach`,
+    /// `None` beyond it: what a contact needs. Mesh colliders stop their
+    /// closest-point search at `reach`; the other shapes are cheap anyway.
+    pub fn signed_distance_within(&self, p: Vec3, reach: f32) -> Option<(f32, Vec3)> {
+        match self {
+            Shape::Mesh(mesh) => mesh.signed_distance_within(p, reach),
+            _ => Some(self.signed_distance(p)).filter(|&(d, _)| d < reach),
+        }
+    }
 }
 
 fn sphere(d: Vec3, radius: f32) -> (f32, Vec3) {
