@@ -120,8 +120,11 @@ impl fmt::Debug for MeshCollider {
 }
 
 impl MeshCollider {
-    /// Builds the hierarchy over `mesh`'s triangles (indices must be valid, as
-    /// [`crate::mesh::obj::load_obj`] ensures).
+    /// Builds the hierarchy over `mesh`'s triangles.
+    ///
+    /// # Panics
+    /// If a triangle refers to a vertex `mesh` lacks; meshes from
+    /// [`crate::mesh::obj::load_obj`] are checked for that.
     pub fn new(mesh: &Mesh) -> Self {
         let mut collider = MeshCollider {
             positions: mesh.positions.clone(),
@@ -137,6 +140,7 @@ impl MeshCollider {
         collider
     }
 
+    /// The corners of every triangle, in the hierarchy's leaf order.
     pub fn triangles(&self) -> impl Iterator<Item = [Vec3; 3]> + '_ {
         self.triangles.iter().map(|t| self.corners(t))
     }
