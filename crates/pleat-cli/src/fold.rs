@@ -2,15 +2,14 @@
 //! the paper defaults, export its frames and write report.json with the
 //! largest fold-angle errors and strain.
 
-use crate::output::{Format, Output};
+use crate::output::OutputArgs;
 use crate::report::Report;
-use crate::run::{rayon_threads, simulate};
-use crate::with_threads;
+use crate::run::{finish, rayon_threads, run_frames};
 use pleat::origami::{
     builtin, load_pattern, paper_simulation, CreasePattern, FoldRamp, Sheet, SheetOptions,
     BUILTIN_NAMES,
 };
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::ExitCode;
 
 /// Frames the paper is left to settle at the final progress.
@@ -31,18 +30,8 @@ pub struct FoldArgs {
     /// frames to settle).
     #[arg(long, default_value_t = 120)]
     pub frames: u32,
-    /// Folder for the meshes and report.json.
-    #[arg(long)]
-    pub out: Option<PathBuf>,
-    /// Mesh format: an OBJ or PLY file per exported frame, or one animated glb.
-    #[arg(long, value_enum, default_value_t)]
-    pub format: Format,
-    /// Export every K-th frame.
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
-    pub every: u32,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
-    pub threads: Option<usize>,
+    #[command(flatten)]
+    pub output: OutputArgs,
 }
 
 pub fn fold(args: &FoldArgs) -> Result<ExitCode, String> {
@@ -61,15 +50,9 @@ pub fn fold(args: &FoldArgs) -> Result<ExitCode, String> {
     };
     let mut sim = paper_simulation(&sheet, ramp);
     let frame_dt = 1.0 / FPS;
-    let mut output = match &args.out {
-        Some(dir) => Some(Output::create(dir, args.format, &sim, frame_dt)?),
-        None => None,
-    };
     let frames = (args.frames + SETTLE_FRAMES, frame_dt);
-    let frame_times = with_threads(args.threads, || {
-        simulate(&mut sim, &name, frames, args.every, output.as_mut())
-    })??;
-    let threads = rayon_threads(args.threads)?;
+    let (frame_times, output) = run_frames(&mut sim, &name, frames, &args.output)?;
+    let threads = rayon_threads(args.output.threads)?;
     let report = Report::named(&sim, &name, frame_dt, "cpu", &frame_times, threads);
     println!(
         "{}: {} vertices, {} triangles, {} creases",
@@ -78,14 +61,7 @@ pub fn fold(args: &FoldArgs) -> Result<ExitCode, String> {
         sheet.triangles.len(),
         sheet.crease_count()
     );
-    println!("{}", report.summary_line());
-    if let Some(line) = report.fold_line() {
-        println!("{line}");
-    }
-    if let (Some(out), Some(dir)) = (output, &args.out) {
-        out.finish()?;
-        println!("wrote {}", report.write(dir)?.display());
-    }
+    finish(&report, output, &args.output)?;
     Ok(if report.nan {
         ExitCode::FAILURE
     } else {

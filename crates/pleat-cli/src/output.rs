@@ -7,6 +7,24 @@ use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
+/// Where a run's frames and report go, and on how many threads it runs
+/// (shared by `pleat run` and `pleat fold`).
+#[derive(clap::Args, Default)]
+pub struct OutputArgs {
+    /// Folder for the meshes and report.json.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Mesh format: an OBJ or PLY file per exported frame, or one animated glb.
+    #[arg(long, value_enum, default_value_t)]
+    pub format: Format,
+    /// Export every K-th frame.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+    pub every: u32,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
 /// Mesh format of `pleat run --format`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
 pub enum Format {

@@ -1,6 +1,6 @@
 //! `pleat run`: simulate a scene, export its frames and write report.json.
 
-use crate::output::{Format, Output};
+use crate::output::{Output, OutputArgs};
 use crate::report::Report;
 use crate::{require_cpu, with_threads};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -23,18 +23,8 @@ pub struct RunArgs {
     /// cpu or gpu.
     #[arg(long, default_value = "cpu")]
     pub backend: String,
-    /// Folder for the meshes and report.json.
-    #[arg(long)]
-    pub out: Option<PathBuf>,
-    /// Mesh format: an OBJ or PLY file per exported frame, or one animated glb.
-    #[arg(long, value_enum, default_value_t)]
-    pub format: Format,
-    /// Export every K-th frame.
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
-    pub every: u32,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
-    pub threads: Option<usize>,
+    #[command(flatten)]
+    pub output: OutputArgs,
     /// Print per-stage timings on stderr.
     #[arg(long)]
     pub profile: bool,
@@ -51,25 +41,52 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, String> {
         scene.frames = frames;
     }
     let mut sim = scene.build(&base_dir, &file).map_err(|e| e.to_string())?;
-    let mut output = match &args.out {
-        Some(dir) => Some(Output::create(dir, args.format, &sim, scene.frame_dt())?),
-        None => None,
-    };
-    let every = args.every.max(1);
-    let threads = args.threads;
-    let frame_times = with_threads(threads, || {
-        simulate(
-            &mut sim,
-            &scene.name,
-            (scene.frames, scene.frame_dt()),
-            every,
-            output.as_mut(),
-        )
-    })??;
-    let report = Report::new(&sim, &scene, "cpu", &frame_times, rayon_threads(threads)?);
+    let (frame_times, output) = run_frames(
+        &mut sim,
+        &scene.name,
+        (scene.frames, scene.frame_dt()),
+        &args.output,
+    )?;
+    let report = Report::new(
+        &sim,
+        &scene,
+        "cpu",
+        &frame_times,
+        rayon_threads(args.output.threads)?,
+    );
     if args.profile {
         eprintln!("{}", report.profile_text());
     }
+    finish(&report, output, &args.output)?;
+    Ok(if report.nan || report.unstable {
+        ExitCode::FAILURE
+    } else {
+        ExitCode::SUCCESS
+    })
+}
+
+/// Steps `sim` through `frames` frames of `frame_dt` on the threads of
+/// `args`, exporting as it asks; returns each frame's time and the output
+/// still to be finished.
+pub fn run_frames(
+    sim: &mut Simulation,
+    name: &str,
+    frames: (u32, f32),
+    args: &OutputArgs,
+) -> Result<(Vec<Duration>, Option<Output>), String> {
+    let mut output = match &args.out {
+        Some(dir) => Some(Output::create(dir, args.format, sim, frames.1)?),
+        None => None,
+    };
+    let every = args.every.max(1);
+    let times = with_threads(args.threads, || {
+        simulate(sim, name, frames, every, output.as_mut())
+    })??;
+    Ok((times, output))
+}
+
+/// Prints the report's summary and writes the exports and report.json.
+pub fn finish(report: &Report, output: Option<Output>, args: &OutputArgs) -> Result<(), String> {
     println!("{}", report.summary_line());
     if let Some(line) = report.fold_line() {
         println!("{line}");
@@ -78,11 +95,7 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, String> {
         out.finish()?;
         println!("wrote {}", report.write(dir)?.display());
     }
-    Ok(if report.nan || report.unstable {
-        ExitCode::FAILURE
-    } else {
-        ExitCode::SUCCESS
-    })
+    Ok(())
 }
 
 /// The scene, its name for messages and the folder its relative paths start from.

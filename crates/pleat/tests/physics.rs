@@ -337,3 +337,13 @@ fn wind_blows_the_flag_downwind() {
         "the free edge streams out downwind: x = {free_edge_x}"
     );
 }
+
+#[test]
+fn bunny_drape_on_the_mesh_collider_ends_with_no_particle_inside() {
+    assert_no_particle_inside("bunny_drape.json");
+}
+
+#[test]
+fn bunny_drape_on_the_sdf_collider_ends_with_no_particle_inside() {
+    assert_no_particle_inside("bunny_sdf.json");
+}

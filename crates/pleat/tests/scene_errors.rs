@@ -377,3 +377,76 @@ fn self_collision_needs_xpbd() {
     );
     assert_error(&json, "solver.self_collision", "only by the xpbd solver");
 }
+
+/// `GOOD` with its sphere collider replaced by `shape`.
+fn with_collider_shape(shape: &str) -> String {
+    GOOD.replace(
+        "{ \"sphere\": { \"center\": [0, 0, 0], \"radius\": 0.5 } }",
+        shape,
+    )
+}
+
+#[test]
+fn missing_mesh_collider_file() {
+    let json = with_collider_shape("{ \"mesh\": { \"path\": \"nowhere.obj\", \"scale\": 0.05 } }");
+    assert_error(
+        &json,
+        "colliders[0].shape.mesh.path",
+        "nowhere.obj: cannot open the file",
+    );
+}
+
+#[test]
+fn malformed_sdf_collider_file() {
+    let dir = std::env::temp_dir().join(format!("pleat-scene-errors-sdf-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("broken.obj"), "v 0 0 0\nv 1 0 0\nf 1 2 9\n").unwrap();
+    let json = with_collider_shape("{ \"sdf\": { \"path\": \"broken.obj\", \"cell_size\": 0.1 } }");
+    let scene = Scene::parse(&json, "bad.json").unwrap();
+    let e = scene.model(&dir, "bad.json").unwrap_err().to_string();
+    assert!(
+        e.contains("colliders[0].shape.sdf.path")
+            && e.contains("broken.obj: a face refers to a vertex that does not exist"),
+        "{e}"
+    );
+}
+
+#[test]
+fn non_positive_sdf_cell_size() {
+    let json =
+        with_collider_shape("{ \"sdf\": { \"path\": \"meshes/bunny.obj\", \"cell_size\": 0 } }");
+    assert_error(
+        &json,
+        "colliders[0].shape.sdf.cell_size",
+        "must be a positive number, got 0",
+    );
+}
+
+#[test]
+fn sdf_cell_size_too_small_for_the_mesh() {
+    let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes"));
+    let json =
+        with_collider_shape("{ \"sdf\": { \"path\": \"meshes/bunny.obj\", \"cell_size\": 1e-4 } }");
+    let scene = Scene::parse(&json, "bad.json").unwrap();
+    let e = scene.model(dir, "bad.json").unwrap_err().to_string();
+    assert!(
+        e.contains("colliders[0].shape.sdf.cell_size") && e.contains("use a larger cell size"),
+        "{e}"
+    );
+}
+
+#[test]
+fn mesh_collider_scale_and_unknown_field() {
+    let json = with_collider_shape("{ \"mesh\": { \"path\": \"a.obj\", \"scale\": -1 } }");
+    assert_error(
+        &json,
+        "colliders[0].shape.mesh.scale",
+        "must be a positive number",
+    );
+    let json = with_collider_shape("{ \"mesh\": { \"path\": \"a.obj\", \"cell_size\": 1 } }");
+    assert_error(
+        &json,
+        "colliders[0].shape.mesh",
+        "unknown field `cell_size`",
+    );
+}

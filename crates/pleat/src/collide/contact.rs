@@ -63,7 +63,10 @@ fn contact(
     pose: &ColliderPose,
 ) -> bool {
     let local = pose.end_inverse.transform_point3(*x);
-    let (distance, local_normal) = collider.shape.signed_distance(local);
+    let Some((distance, local_normal)) = collider.shape.signed_distance_within(local, thickness)
+    else {
+        return false;
+    };
     let depth = thickness - distance;
     if depth.is_nan() || depth <= 0.0 {
         return false;

@@ -1,16 +1,21 @@
-//! Collisions: collider shapes, their scripted motion and the cloth-collider
+//! Collisions: collider shapes (analytic, triangle meshes with a BVH and
+//! signed distance fields baked from them), their scripted motion and the cloth-collider
 //! contact projection with Coulomb friction; self-collision and cloth-cloth
 //! contact over a spatial hash grid, with continuous collision detection.
 
 pub mod ccd;
 mod contact;
 pub mod hash_grid;
+pub mod mesh_collider;
 mod motion;
+pub mod sdf;
 pub mod self_contact;
 mod shape;
 
 pub use contact::{project_contacts, ColliderPose};
+pub use mesh_collider::MeshCollider;
 pub use motion::Motion;
+pub use sdf::SdfGrid;
 pub use self_contact::{SelfCollision, SelfContactStats, SelfContacts};
 pub use shape::Shape;
 

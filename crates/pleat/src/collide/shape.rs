@@ -1,8 +1,12 @@
-//! Analytic collider shapes and their signed distance functions.
+//! Collider shapes and their signed distance functions: analytic ones, and
+//! triangle meshes queried directly or through a baked distance field.
 
+use super::mesh_collider::MeshCollider;
+use super::sdf::SdfGrid;
 use glam::{Quat, Vec3};
+use std::sync::Arc;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum Shape {
     /// Half-space below the plane through `point` with outward `normal`.
     Plane {
@@ -25,29 +29,45 @@ pub enum Shape {
         b: Vec3,
         radius: f32,
     },
+    /// A triangle mesh, queried through its hierarchy (shared, not copied).
+    Mesh(Arc<MeshCollider>),
+    /// A distance field baked from a mesh.
+    Sdf(Arc<SdfGrid>),
 }
 
 impl Shape {
     /// Signed distance from `p` to the surface (negative inside) and the outward
     /// unit normal (the direction that increases the distance fastest).
     pub fn signed_distance(&self, p: Vec3) -> (f32, Vec3) {
-        match *self {
-            Shape::Plane { point, normal } => ((p - point).dot(normal), normal),
-            Shape::Sphere { center, radius } => sphere(p - center, radius),
+        match self {
+            Shape::Plane { point, normal } => ((p - *point).dot(*normal), *normal),
+            Shape::Sphere { center, radius } => sphere(p - *center, *radius),
             Shape::Box {
                 center,
                 half_extents,
                 rotation,
             } => {
-                let (d, n) = oriented_box(rotation.inverse() * (p - center), half_extents);
+                let (d, n) = oriented_box(rotation.inverse() * (p - *center), *half_extents);
                 (d, rotation * n)
             }
             Shape::Capsule { a, b, radius } => {
-                let ab = b - a;
+                let ab = *b - *a;
                 let t =
-                    ((p - a).dot(ab) / ab.length_squared().max(f32::MIN_POSITIVE)).clamp(0.0, 1.0);
-                sphere(p - (a + ab * t), radius)
+                    ((p - *a).dot(ab) / ab.length_squared().max(f32::MIN_POSITIVE)).clamp(0.0, 1.0);
+                sphere(p - (*a + ab * t), *radius)
             }
+            Shape::Mesh(mesh) => mesh.signed_distance(p),
+            Shape::Sdf(grid) => grid.signed_distance(p),
+        }
+    }
+
+    /// The signed distance and normal where the distance is below `reach`,
+    /// `None` beyond it: what a contact needs. Mesh colliders stop their
+    /// closest-point search at `reach`; the other shapes are cheap anyway.
+    pub fn signed_distance_within(&self, p: Vec3, reach: f32) -> Option<(f32, Vec3)> {
+        match self {
+            Shape::Mesh(mesh) => mesh.signed_distance_within(p, reach),
+            _ => Some(self.signed_distance(p)).filter(|&(d, _)| d < reach),
         }
     }
 }
@@ -83,7 +103,7 @@ mod tests {
     use super::*;
 
     /// The normal must be the gradient of the distance.
-    fn check_gradient(shape: Shape, p: Vec3) {
+    fn check_gradient(shape: &Shape, p: Vec3) {
         let (d, n) = shape.signed_distance(p);
         let h = 1e-3;
         let fd = Vec3::new(
@@ -117,7 +137,7 @@ mod tests {
             point: Vec3::ZERO,
             normal: Vec3::Y,
         };
-        for shape in [sphere, boxed, capsule, plane] {
+        for shape in &[sphere, boxed, capsule, plane] {
             for p in [
                 Vec3::new(0.3, 1.4, -0.2),
                 Vec3::new(1.2, 0.1, 0.05),

@@ -5,6 +5,7 @@
 
 use crate::solver::parallel::{Constraint, SharedPositions};
 use glam::Vec3;
+use std::ops::Range;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tether {
@@ -16,22 +17,23 @@ pub struct Tether {
 }
 
 impl Tether {
-    /// Tethers from every dynamic particle to its `per_particle` nearest pins,
-    /// with the rest distance as the length limit.
+    /// Tethers from every dynamic particle in `particles` to its `per_particle`
+    /// nearest `pins`, with the rest distance as the length limit.
     pub fn from_pins(
         rest: &[Vec3],
         inv_mass: &[f32],
+        particles: Range<usize>,
         pins: &[u32],
         per_particle: usize,
     ) -> Vec<Tether> {
         let mut tethers = Vec::new();
         let mut nearest: Vec<(f32, u32)> = Vec::with_capacity(pins.len());
-        for (i, &p) in rest.iter().enumerate() {
-            if inv_mass[i] == 0.0 {
-                continue;
-            }
+        for i in particles.filter(|&i| inv_mass[i] > 0.0) {
             nearest.clear();
-            nearest.extend(pins.iter().map(|&k| (p.distance(rest[k as usize]), k)));
+            nearest.extend(
+                pins.iter()
+                    .map(|&k| (rest[i].distance(rest[k as usize]), k)),
+            );
             nearest.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
             tethers.extend(nearest.iter().take(per_particle).map(|&(d, pin)| Tether {
                 particle: [i as u32],
@@ -70,7 +72,7 @@ mod tests {
     fn tether_caps_distance_only() {
         let rest = [Vec3::ZERO, Vec3::X, Vec3::new(3.0, 0.0, 0.0)];
         let inv_mass = [0.0, 1.0, 1.0];
-        let tethers = Tether::from_pins(&rest, &inv_mass, &[0], 1);
+        let tethers = Tether::from_pins(&rest, &inv_mass, 0..3, &[0], 1);
         assert_eq!(tethers.len(), 2);
         let mut x = vec![
             Vec3::ZERO,

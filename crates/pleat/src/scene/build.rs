@@ -5,7 +5,7 @@ use super::{
     ClothSpec, ColliderSpec, Corner, MeshSpec, MotionSpec, PatternMeshSpec, PinSpec, Scene,
     SceneError, SceneErrors, ShapeSpec, Side,
 };
-use crate::collide::{Collider, Motion, Shape};
+use crate::collide::{Collider, MeshCollider, Motion, SdfGrid, Shape};
 use crate::mesh::{obj::load_obj, GridSpec, Mesh};
 use crate::model::{Model, Pin};
 use crate::origami::{builtin, load_pattern, PatternError, Sheet, SheetOptions};
@@ -13,6 +13,7 @@ use crate::simulation::Simulation;
 use crate::world::World;
 use glam::{EulerRot, Quat, Vec3};
 use std::path::Path;
+use std::sync::Arc;
 
 impl Scene {
     /// The simulation this scene describes; OBJ paths are relative to `base_dir`,
@@ -45,13 +46,24 @@ impl Scene {
                 });
             }
         }
+        let mut colliders = Vec::with_capacity(self.colliders.len());
+        for (i, spec) in self.colliders.iter().enumerate() {
+            match collider(spec, base_dir) {
+                Ok(c) => colliders.push(c),
+                Err((sub, reason)) => errors.push(SceneError {
+                    file: file.into(),
+                    path: format!("colliders[{i}].shape.{sub}"),
+                    reason,
+                }),
+            }
+        }
         if !errors.is_empty() {
             return Err(SceneErrors(errors));
         }
         let world = World {
             gravity: self.gravity,
             wind: self.wind,
-            colliders: self.colliders.iter().map(collider).collect(),
+            colliders,
             time: 0.0,
         };
         Ok((model, world))
@@ -227,8 +239,11 @@ fn motion(spec: &MotionSpec, default_pivot: Vec3) -> Motion {
     }
 }
 
-fn collider(spec: &ColliderSpec) -> Collider {
-    let (shape, centre) = match spec.shape {
+/// An error inside a collider's shape: the path below `shape` and the reason.
+type ShapeError = (String, String);
+
+fn collider(spec: &ColliderSpec, base_dir: &Path) -> Result<Collider, ShapeError> {
+    let (shape, centre) = match spec.shape.clone() {
         ShapeSpec::Plane { point, normal } => (
             Shape::Plane {
                 point,
@@ -258,10 +273,44 @@ fn collider(spec: &ColliderSpec) -> Collider {
             )
         }
         ShapeSpec::Capsule { a, b, radius } => (Shape::Capsule { a, b, radius }, (a + b) / 2.0),
+        ShapeSpec::Mesh(m) => {
+            let mesh = placed_mesh(base_dir, &m.path, m.scale, m.translate)
+                .map_err(|reason| ("mesh.path".to_string(), reason))?;
+            let centre = mesh_centre(&mesh);
+            (Shape::Mesh(Arc::new(mesh)), centre)
+        }
+        ShapeSpec::Sdf(s) => {
+            let mesh = placed_mesh(base_dir, &s.path, s.scale, s.translate)
+                .map_err(|reason| ("sdf.path".to_string(), reason))?;
+            let grid = SdfGrid::bake(&mesh, s.cell_size)
+                .map_err(|reason| ("sdf.cell_size".to_string(), reason))?;
+            (Shape::Sdf(Arc::new(grid)), mesh_centre(&mesh))
+        }
     };
-    Collider {
+    Ok(Collider {
         shape,
         motion: motion(&spec.motion, centre),
         friction: spec.friction,
+    })
+}
+
+/// A collider mesh loaded from `path` (relative to `base_dir`) and placed at
+/// `position * scale + translate`.
+fn placed_mesh(
+    base_dir: &Path,
+    path: &str,
+    scale: f32,
+    translate: Vec3,
+) -> Result<MeshCollider, String> {
+    let mut mesh = load_obj(&base_dir.join(path)).map_err(|e| e.to_string())?;
+    for p in &mut mesh.positions {
+        *p = *p * scale + translate;
     }
+    Ok(MeshCollider::new(&mesh))
+}
+
+/// The centre of a mesh's box: where its rotation turns by default.
+fn mesh_centre(mesh: &MeshCollider) -> Vec3 {
+    let b = mesh.bounds();
+    (b.min + b.max) * 0.5
 }

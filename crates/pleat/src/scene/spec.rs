@@ -250,6 +250,35 @@ pub enum ShapeSpec {
         b: Vec3,
         radius: f32,
     },
+    /// A triangle mesh from an OBJ file, queried through a BVH.
+    Mesh(MeshShapeSpec),
+    /// A signed distance field baked from an OBJ file onto a grid.
+    Sdf(SdfShapeSpec),
+}
+
+/// A mesh collider: `path` relative to the scene file's folder, each vertex
+/// placed at `position * scale + translate`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshShapeSpec {
+    pub path: String,
+    #[serde(default = "unit_scale")]
+    pub scale: f32,
+    #[serde(default)]
+    pub translate: Vec3,
+}
+
+/// A distance field baked from a mesh placed as in [`MeshShapeSpec`], with
+/// grid cells of `cell_size` metres.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SdfShapeSpec {
+    pub path: String,
+    #[serde(default = "unit_scale")]
+    pub scale: f32,
+    #[serde(default)]
+    pub translate: Vec3,
+    pub cell_size: f32,
 }
 
 fn up() -> Vec3 {

@@ -9,6 +9,7 @@ use crate::force::Wind;
 use crate::material::Material;
 use crate::origami::{builtin, BUILTIN_NAMES};
 use crate::solver::SolverKind;
+use glam::Vec3;
 
 /// Collects the range errors of `scene`.
 pub fn validate(scene: &Scene, file: &str) -> Vec<SceneError> {
@@ -279,6 +280,14 @@ impl Validator<'_> {
             ShapeSpec::Capsule { radius, .. } => {
                 self.positive(&format!("{path}.shape.capsule.radius"), *radius)
             }
+            ShapeSpec::Mesh(m) => {
+                self.placed_file(&format!("{path}.shape.mesh"), &m.path, m.scale, m.translate)
+            }
+            ShapeSpec::Sdf(s) => {
+                let p = format!("{path}.shape.sdf");
+                self.placed_file(&p, &s.path, s.scale, s.translate);
+                self.positive(&format!("{p}.cell_size"), s.cell_size);
+            }
         }
         self.non_negative(
             &format!("{path}.friction.static"),
@@ -288,6 +297,17 @@ impl Validator<'_> {
             &format!("{path}.friction.kinetic"),
             c.friction.kinetic_coefficient,
         );
+    }
+
+    /// The file, scale and translation of a mesh placed in the scene.
+    fn placed_file(&mut self, path: &str, file: &str, scale: f32, translate: Vec3) {
+        self.check(
+            !file.is_empty(),
+            &format!("{path}.path"),
+            "must name an OBJ file",
+        );
+        self.positive(&format!("{path}.scale"), scale);
+        self.finite3(&format!("{path}.translate"), translate.to_array());
     }
 
     fn self_collision(&mut self, s: &SelfCollision) {

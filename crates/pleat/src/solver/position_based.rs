@@ -1,4 +1,4 @@
-//! What the classic solvers share around their own force or constraint
+//! What the solvers share around their own force or constraint
 //! step: hard pins that follow their motion, contacts with the colliders,
 //! and the plain position-based dynamics loop (Müller et al. 2007) that the
 //! shape-matching and Jacobi solvers run: per substep, predict positions

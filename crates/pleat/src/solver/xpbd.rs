@@ -6,9 +6,10 @@
 //! change of position.
 
 use super::parallel::ColoredConstraints;
+use super::position_based::{attachments, inverse_masses, Contacts, HardPins};
 use super::springs::skip_one_pairs;
 use super::{SolverKind, SolverSettings, StageTimes};
-use crate::collide::{project_contacts, ColliderPose, SelfContacts};
+use crate::collide::SelfContacts;
 use crate::constraint::{
     Attachment, DihedralBending, DistanceConstraint, IsometricBending, OrigamiHinge, Tether,
 };
@@ -35,11 +36,10 @@ pub struct Xpbd {
     /// Attachments with compliance: solved with the other constraints.
     soft_attachments: ColoredConstraints<Attachment>,
     /// Attachments with compliance zero: their particles are moved onto the target.
-    hard_attachments: Vec<Attachment>,
+    hard_pins: HardPins,
     triangles: Vec<[u32; 3]>,
-    thickness: Vec<f32>,
     wind: WindForces,
-    poses: Vec<ColliderPose>,
+    contacts: Contacts,
     /// Self-collision and cloth-cloth contact, when enabled.
     self_contacts: Option<SelfContacts>,
 }
@@ -47,11 +47,7 @@ pub struct Xpbd {
 impl Xpbd {
     pub fn new(model: &Model, settings: &SolverSettings) -> Self {
         let n = model.particle_count();
-        let inv_mass: Vec<f32> = model
-            .mass
-            .iter()
-            .map(|&m| if m > 0.0 { 1.0 / m } else { 0.0 })
-            .collect();
+        let inv_mass = inverse_masses(model);
         let mut distance = Vec::new();
         let mut bending = Vec::new();
         let mut isometric = Vec::new();
@@ -81,35 +77,16 @@ impl Xpbd {
             }
             if cloth.tethers {
                 let pins = model.hard_pins_of(cloth);
-                let range = cloth.particles();
-                tethers.extend(
-                    Tether::from_pins(
-                        &model.rest[range.clone()],
-                        &inv_mass[range],
-                        &pins_local(&pins, cloth),
-                        TETHERS_PER_PARTICLE,
-                    )
-                    .into_iter()
-                    .map(|t| Tether {
-                        particle: [cloth.global(t.particle[0])],
-                        pin: cloth.global(t.pin),
-                        ..t
-                    }),
-                );
+                tethers.extend(Tether::from_pins(
+                    &model.rest,
+                    &inv_mass,
+                    cloth.particles(),
+                    &pins,
+                    TETHERS_PER_PARTICLE,
+                ));
             }
         }
-        let (hard, soft): (Vec<_>, Vec<_>) = model
-            .pins
-            .iter()
-            .map(|p| {
-                Attachment::new(
-                    p.particle,
-                    model.rest[p.particle as usize],
-                    p.motion,
-                    p.compliance,
-                )
-            })
-            .partition(Attachment::is_hard);
+        let (hard_pins, soft) = attachments(model);
         Xpbd {
             settings: *settings,
             distance: ColoredConstraints::new(distance, n),
@@ -118,11 +95,10 @@ impl Xpbd {
             hinges: ColoredConstraints::new(hinges, n),
             tethers: ColoredConstraints::new(tethers, n),
             soft_attachments: ColoredConstraints::new(soft, n),
-            hard_attachments: hard,
+            hard_pins,
             triangles: model.triangles.clone(),
-            thickness: model.thickness.clone(),
             wind: WindForces::new(&model.triangles, n),
-            poses: Vec::new(),
+            contacts: Contacts::new(model),
             self_contacts: settings
                 .self_collision
                 .enabled
@@ -146,10 +122,7 @@ impl Xpbd {
         }
         StageTimes::time(&mut stages.predict, || {
             predict(p, world.gravity, self.settings.damping, dt);
-            for a in &mut self.hard_attachments {
-                a.update_target(t + dt);
-                p.x[a.particle[0] as usize] = a.target;
-            }
+            self.hard_pins.place(&mut p.x, t + dt);
         });
         StageTimes::time(&mut stages.constraints, || {
             self.project_constraints(p, t + dt, dt)
@@ -160,24 +133,7 @@ impl Xpbd {
             });
             stages.self_contacts += found.active as u64;
         }
-        let contacts = StageTimes::time(&mut stages.collisions, || {
-            self.poses.clear();
-            self.poses.extend(
-                world
-                    .colliders
-                    .iter()
-                    .map(|c| ColliderPose::over(c, t, t + dt)),
-            );
-            project_contacts(
-                &mut p.x,
-                &p.x_prev,
-                &p.inv_mass,
-                &self.thickness,
-                &world.colliders,
-                &self.poses,
-            )
-        });
-        stages.contacts += contacts as u64;
+        self.contacts.resolve(p, world, t, dt, stages);
         StageTimes::time(&mut stages.predict, || update_velocities(p, dt));
     }
 
@@ -220,7 +176,7 @@ impl super::Solver for Xpbd {
             + self.hinges.len()
             + self.tethers.len()
             + self.soft_attachments.len()
-            + self.hard_attachments.len()
+            + self.hard_pins.len()
     }
 
     fn set_fold_progress(&mut self, c: f32) {
@@ -266,11 +222,6 @@ pub(super) fn update_velocities(p: &mut Particles, dt: f32) {
         .into_par_iter()
         .with_min_len(2048)
         .for_each(|(x, x_prev, v)| *v = (*x - *x_prev) * inv_dt);
-}
-
-/// Pins given as global indices, made local to `cloth`.
-fn pins_local(pins: &[u32], cloth: &ClothPart) -> Vec<u32> {
-    pins.iter().map(|&p| p - cloth.offset).collect()
 }
 
 /// Stretch and shear constraints on every mesh edge.

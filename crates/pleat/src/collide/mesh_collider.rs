@@ -1,0 +1,416 @@
+//! Triangle-mesh colliders: a bounding volume hierarchy over the triangles
+//! (median split on the longest axis of the centroids, a flat node array),
+//! the exact closest point on the mesh (Ericson, *Real-Time Collision
+//! Detection*, 5.1.5) and the inside/outside sign from the generalized
+//! winding number (Jacobson et al. 2013), so that open meshes such as the
+//! Utah teapot still get a sensible sign.
+//!
+//! Costs, for `n` triangles: the closest point is a best-first descent of the
+//! hierarchy, about `O(log n)` boxes and triangles for a point near the mesh.
+//! The winding number is the fast, first-order evaluation of Barill et al.
+//! 2018: a node seen from farther than `FAR_FIELD` times its radius adds the
+//! solid angle of its area-weighted normal (a dipole) instead of its
+//! triangles, so a query visits about `O(log n)` nodes plus the triangles
+//! near the point; [`winding_number_brute_force`] sums every triangle's exact
+//! solid angle (`O(n)`) for checks. Points outside the mesh's bounding box
+//! are outside without a winding number: exact for closed meshes, and the
+//! convention for open ones.
+
+use crate::mesh::Mesh;
+use glam::Vec3;
+use std::f32::consts::PI;
+use std::fmt;
+
+/// Most triangles in a leaf.
+const LEAF_SIZE: usize = 4;
+/// A node farther than this many radii away is summed as one dipole.
+const FAR_FIELD: f32 = 2.0;
+/// Distances below this, relative to the coordinates, are rounding: on the surface.
+const ON_SURFACE: f32 = 1e-6;
+/// Deeper than any median-split hierarchy of `u32` triangles needs.
+const STACK_DEPTH: usize = 64;
+
+/// A closed axis-aligned box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    pub min: Vec3,
+    pub max: Vec3,
+}
+
+impl Aabb {
+    const EMPTY: Self = Self {
+        min: Vec3::INFINITY,
+        max: Vec3::NEG_INFINITY,
+    };
+
+    fn of_points(points: impl IntoIterator<Item = Vec3>) -> Self {
+        points.into_iter().fold(Self::EMPTY, |b, p| Self {
+            min: b.min.min(p),
+            max: b.max.max(p),
+        })
+    }
+
+    pub fn contains(&self, p: Vec3) -> bool {
+        self.min.cmple(p).all() && p.cmple(self.max).all()
+    }
+
+    /// Squared distance from `p` to the box (zero inside).
+    fn distance_squared(&self, p: Vec3) -> f32 {
+        (p - p.clamp(self.min, self.max)).length_squared()
+    }
+}
+
+/// A node: a leaf holds `count > 0` triangles from `first` in leaf order; an
+/// inner node (`count == 0`) has its children at `first` and `first + 1`.
+/// The dipole (`centre`, `area_normal`, `radius`) stands for the node's
+/// triangles in the far field of the winding number.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Node {
+    bounds: Aabb,
+    first: u32,
+    count: u32,
+    /// Area-weighted centroid of the triangles.
+    centre: Vec3,
+    /// Sum of the triangles' area vectors, `(b - a) x (c - a) / 2`.
+    area_normal: Vec3,
+    /// Largest distance from `centre` to the node's box.
+    radius: f32,
+}
+
+impl Node {
+    fn is_leaf(&self) -> bool {
+        self.count > 0
+    }
+
+    fn items(&self) -> std::ops::Range<usize> {
+        self.first as usize..(self.first + self.count) as usize
+    }
+
+    fn children(&self) -> [u32; 2] {
+        [self.first, self.first + 1]
+    }
+}
+
+/// The point of the mesh nearest a query point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Closest {
+    pub point: Vec3,
+    /// Index into the collider's triangles.
+    pub triangle: usize,
+    pub distance_squared: f32,
+}
+
+/// A static triangle mesh prepared for distance and inside/outside queries.
+#[derive(Clone, PartialEq)]
+pub struct MeshCollider {
+    positions: Vec<Vec3>,
+    /// In leaf order of the hierarchy.
+    triangles: Vec<[u32; 3]>,
+    nodes: Vec<Node>,
+}
+
+impl fmt::Debug for MeshCollider {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("MeshCollider")
+            .field("vertices", &self.positions.len())
+            .field("triangles", &self.triangles.len())
+            .field("bounds", &self.bounds())
+            .finish()
+    }
+}
+
+impl MeshCollider {
+    /// Builds the hierarchy over `mesh`'s triangles.
+    ///
+    /// # Panics
+    /// If a triangle refers to a vertex `mesh` lacks; meshes from
+    /// [`crate::mesh::obj::load_obj`] are checked for that.
+    pub fn new(mesh: &Mesh) -> Self {
+        let mut collider = MeshCollider {
+            positions: mesh.positions.clone(),
+            triangles: mesh.triangles.clone(),
+            nodes: Vec::with_capacity(2 * mesh.triangles.len() / LEAF_SIZE + 1),
+        };
+        if !collider.triangles.is_empty() {
+            let mut triangles = std::mem::take(&mut collider.triangles);
+            collider.nodes.push(collider.leaf(&triangles, 0));
+            collider.split(0, &mut triangles, 0);
+            collider.triangles = triangles;
+        }
+        collider
+    }
+
+    /// The corners of every triangle, in the hierarchy's leaf order.
+    pub fn triangles(&self) -> impl Iterator<Item = [Vec3; 3]> + '_ {
+        self.triangles.iter().map(|t| self.corners(t))
+    }
+
+    /// The box around every triangle (empty, inverted, for no triangles).
+    pub fn bounds(&self) -> Aabb {
+        self.nodes.first().map_or(Aabb::EMPTY, |n| n.bounds)
+    }
+
+    fn corners(&self, t: &[u32; 3]) -> [Vec3; 3] {
+        t.map(|i| self.positions[i as usize])
+    }
+
+    /// A leaf over `triangles`, which start at `first` in leaf order.
+    fn leaf(&self, triangles: &[[u32; 3]], first: usize) -> Node {
+        let corners = triangles.iter().map(|t| self.corners(t));
+        let bounds = Aabb::of_points(corners.clone().flatten());
+        let (mut weighted, mut area, mut area_normal) = (Vec3::ZERO, 0.0, Vec3::ZERO);
+        for [a, b, c] in corners {
+            let n = (b - a).cross(c - a) * 0.5;
+            weighted += (a + b + c) / 3.0 * n.length();
+            area += n.length();
+            area_normal += n;
+        }
+        let box_centre = (bounds.min + bounds.max) * 0.5;
+        let centre = if area > 0.0 {
+            weighted / area
+        } else {
+            box_centre
+        };
+        Node {
+            bounds,
+            first: first as u32,
+            count: triangles.len() as u32,
+            centre,
+            area_normal,
+            radius: centre.distance(box_centre) + (bounds.max - box_centre).length(),
+        }
+    }
+
+    /// Fills node `index` with `triangles`, starting at `first` in leaf order.
+    /// Median splits halve the triangles, so the depth is about log2(n).
+    fn split(&mut self, index: usize, triangles: &mut [[u32; 3]], first: usize) {
+        self.nodes[index] = self.leaf(triangles, first);
+        if triangles.len() <= LEAF_SIZE {
+            return;
+        }
+        let centroid = |t: &[u32; 3]| self.corners(t).into_iter().sum::<Vec3>();
+        let spread = Aabb::of_points(triangles.iter().map(centroid));
+        let axis = (spread.max - spread.min).max_position();
+        let mid = triangles.len() / 2;
+        triangles
+            .select_nth_unstable_by(mid, |a, b| centroid(a)[axis].total_cmp(&centroid(b)[axis]));
+        let child = self.nodes.len();
+        self.nodes.extend([self.nodes[index]; 2]);
+        let (left, right) = triangles.split_at_mut(mid);
+        self.split(child, left, first);
+        self.split(child + 1, right, first + mid);
+        self.nodes[index].first = child as u32;
+        self.nodes[index].count = 0;
+    }
+
+    /// The nearest point of the mesh to `p`. `None` without triangles.
+    pub fn closest_point(&self, p: Vec3) -> Option<Closest> {
+        self.closest_point_within(p, f32::INFINITY)
+    }
+
+    /// The nearest point of the mesh to `p` if it is nearer than
+    /// `sqrt(limit_squared)`: a best-first descent that skips every box
+    /// farther than the limit or the best triangle so far, so a small limit
+    /// makes a far query cheap.
+    pub fn closest_point_within(&self, p: Vec3, limit_squared: f32) -> Option<Closest> {
+        let mut best: Option<Closest> = None;
+        let mut stack = Stack::with_root(!self.nodes.is_empty());
+        while let Some(index) = stack.pop() {
+            let node = &self.nodes[index as usize];
+            let mut bound = best.map_or(limit_squared, |b| b.distance_squared);
+            if node.bounds.distance_squared(p) >= bound {
+                continue;
+            }
+            if node.is_leaf() {
+                for triangle in node.items() {
+                    let [a, b, c] = self.corners(&self.triangles[triangle]);
+                    let point = closest_point_on_triangle(p, a, b, c);
+                    let distance_squared = (p - point).length_squared();
+                    if distance_squared < bound {
+                        bound = distance_squared;
+                        best = Some(Closest {
+                            point,
+                            triangle,
+                            distance_squared,
+                        });
+                    }
+                }
+            } else {
+                // The farther child goes in first, so the nearer one is searched first.
+                let [l, r] = node.children();
+                let dl = self.nodes[l as usize].bounds.distance_squared(p);
+                let dr = self.nodes[r as usize].bounds.distance_squared(p);
+                let (near, far) = if dl <= dr { (l, r) } else { (r, l) };
+                stack.push(far);
+                stack.push(near);
+            }
+        }
+        best
+    }
+
+    /// The generalized winding number at `p`: about 1 inside a closed,
+    /// outward-facing mesh, 0 outside, in between near the holes of an open one.
+    /// Far nodes count as dipoles (Barill et al. 2018), near triangles exactly.
+    pub fn winding_number(&self, p: Vec3) -> f32 {
+        let mut solid_angle = 0.0;
+        let mut stack = Stack::with_root(!self.nodes.is_empty());
+        while let Some(index) = stack.pop() {
+            let node = &self.nodes[index as usize];
+            let r = node.centre - p;
+            let distance = r.length();
+            if distance > FAR_FIELD * node.radius {
+                solid_angle += r.dot(node.area_normal) / (distance * distance * distance);
+            } else if node.is_leaf() {
+                solid_angle += node
+                    .items()
+                    .map(|i| {
+                        let [a, b, c] = self.corners(&self.triangles[i]);
+                        triangle_solid_angle(p, a, b, c)
+                    })
+                    .sum::<f32>();
+            } else {
+                let [l, r] = node.children();
+                stack.push(l);
+                stack.push(r);
+            }
+        }
+        solid_angle / (4.0 * PI)
+    }
+
+    /// Whether `p` is inside: within the bounding box and a winding number
+    /// above one half.
+    pub fn contains(&self, p: Vec3) -> bool {
+        self.bounds().contains(p) && self.winding_number(p) > 0.5
+    }
+
+    /// Signed distance (negative inside) and the outward unit normal: the
+    /// direction from the closest point to `p`, flipped inside, or the face
+    /// normal on the surface (within rounding of it, where that direction is
+    /// noise). Infinitely far, facing up, without triangles.
+    pub fn signed_distance(&self, p: Vec3) -> (f32, Vec3) {
+        match self.closest_point(p) {
+            Some(closest) => self.signed(p, closest, self.contains(p)),
+            None => (f32::INFINITY, Vec3::Y),
+        }
+    }
+
+    /// [`Self::signed_distance`] where it is below `reach`, `None` beyond:
+    /// for contacts, where the closest-point search outside the mesh stops at
+    /// `reach` (inside, the whole distance is needed to push out).
+    pub fn signed_distance_within(&self, p: Vec3, reach: f32) -> Option<(f32, Vec3)> {
+        let inside = self.contains(p);
+        let limit_squared = if inside { f32::INFINITY } else { reach * reach };
+        self.closest_point_within(p, limit_squared)
+            .map(|closest| self.signed(p, closest, inside))
+            .filter(|&(d, _)| d < reach)
+    }
+
+    /// The signed distance and normal at `p` from its closest point.
+    fn signed(&self, p: Vec3, closest: Closest, inside: bool) -> (f32, Vec3) {
+        let distance = closest.distance_squared.sqrt();
+        if distance <= ON_SURFACE * (1.0 + p.abs().max_element()) {
+            let [a, b, c] = self.corners(&self.triangles[closest.triangle]);
+            return (0.0, (b - a).cross(c - a).normalize_or(Vec3::Y));
+        }
+        let away = (p - closest.point) / distance;
+        if inside {
+            (-distance, -away)
+        } else {
+            (distance, away)
+        }
+    }
+}
+
+/// A fixed-size stack of node indices: no allocation per query.
+struct Stack {
+    items: [u32; STACK_DEPTH],
+    len: usize,
+}
+
+impl Stack {
+    fn with_root(has_root: bool) -> Self {
+        Stack {
+            items: [0; STACK_DEPTH],
+            len: usize::from(has_root),
+        }
+    }
+
+    fn push(&mut self, node: u32) {
+        self.items[self.len] = node;
+        self.len += 1;
+    }
+
+    fn pop(&mut self) -> Option<u32> {
+        self.len = self.len.checked_sub(1)?;
+        Some(self.items[self.len])
+    }
+}
+
+/// The winding number at `p` summed over every triangle: `O(n)`, for checks.
+pub fn winding_number_brute_force(triangles: impl Iterator<Item = [Vec3; 3]>, p: Vec3) -> f32 {
+    triangles
+        .map(|[a, b, c]| triangle_solid_angle(p, a, b, c))
+        .sum::<f32>()
+        / (4.0 * PI)
+}
+
+/// Signed solid angle of triangle `abc` seen from `p` (Van Oosterom and
+/// Strackee 1983): positive from behind a counter-clockwise triangle, that
+/// is, from inside an outward-facing mesh.
+pub fn triangle_solid_angle(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> f32 {
+    let (a, b, c) = (a - p, b - p, c - p);
+    let (la, lb, lc) = (a.length(), b.length(), c.length());
+    let det = a.dot(b.cross(c));
+    let denominator = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
+    2.0 * det.atan2(denominator)
+}
+
+/// The point of triangle `abc` nearest `p`, by its Voronoi regions (Ericson
+/// 2005, 5.1.5). A degenerate triangle falls back to its nearest edge.
+pub fn closest_point_on_triangle(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
+    let (ab, ac, ap) = (b - a, c - a, p - a);
+    let (d1, d2) = (ab.dot(ap), ac.dot(ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return a;
+    }
+    let bp = p - b;
+    let (d3, d4) = (ab.dot(bp), ac.dot(bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return b;
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return a + ab * (d1 / (d1 - d3));
+    }
+    let cp = p - c;
+    let (d5, d6) = (ab.dot(cp), ac.dot(cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return c;
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return a + ac * (d2 / (d2 - d6));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 {
+        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    }
+    let sum = va + vb + vc;
+    if sum <= 0.0 || !sum.is_finite() {
+        return nearest_edge_point(p, [a, b, c]);
+    }
+    a + ab * (vb / sum) + ac * (vc / sum)
+}
+
+/// The point nearest `p` on the three edges of a (degenerate) triangle.
+fn nearest_edge_point(p: Vec3, [a, b, c]: [Vec3; 3]) -> Vec3 {
+    [(a, b), (b, c), (c, a)]
+        .map(|(s, e)| {
+            let d = e - s;
+            let t = ((p - s).dot(d) / d.length_squared().max(f32::MIN_POSITIVE)).clamp(0.0, 1.0);
+            s + d * t
+        })
+        .into_iter()
+        .min_by(|x, y| x.distance_squared(p).total_cmp(&y.distance_squared(p)))
+        .unwrap_or(a)
+}

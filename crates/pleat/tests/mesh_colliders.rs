@@ -1,0 +1,253 @@
+//! Triangle-mesh and distance-field colliders against brute force over every
+//! triangle: closest points, winding-number signs and baked distances, on the
+//! Stanford bunny, a generated closed sphere and the open Utah teapot.
+
+use pleat::collide::mesh_collider::{closest_point_on_triangle, winding_number_brute_force, Aabb};
+use pleat::collide::{MeshCollider, SdfGrid};
+use pleat::glam::Vec3;
+use pleat::mesh::{obj::load_obj, Mesh};
+use std::path::Path;
+
+fn shipped_mesh(name: &str, scale: f32) -> MeshCollider {
+    let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/meshes"));
+    let mut mesh = load_obj(&dir.join(name)).expect("shipped mesh loads");
+    for p in &mut mesh.positions {
+        *p *= scale;
+    }
+    MeshCollider::new(&mesh)
+}
+
+/// A closed, outward-facing latitude-longitude sphere about the origin.
+fn uv_sphere(radius: f32, rings: u32, segments: u32) -> Mesh {
+    let mut mesh = Mesh::default();
+    mesh.positions.push(Vec3::Y * radius);
+    for r in 1..rings {
+        let theta = std::f32::consts::PI * r as f32 / rings as f32;
+        for s in 0..segments {
+            let phi = std::f32::consts::TAU * s as f32 / segments as f32;
+            let (st, ct) = theta.sin_cos();
+            mesh.positions
+                .push(Vec3::new(st * phi.cos(), ct, -st * phi.sin()) * radius);
+        }
+    }
+    let south = mesh.positions.len() as u32;
+    mesh.positions.push(-Vec3::Y * radius);
+    let ring = |r: u32, s: u32| 1 + (r - 1) * segments + s % segments;
+    for s in 0..segments {
+        mesh.triangles.push([0, ring(1, s), ring(1, s + 1)]);
+        mesh.triangles
+            .push([south, ring(rings - 1, s + 1), ring(rings - 1, s)]);
+        for r in 1..rings - 1 {
+            let (a, b) = (ring(r, s), ring(r, s + 1));
+            let (c, d) = (ring(r + 1, s), ring(r + 1, s + 1));
+            mesh.triangles.extend([[a, c, d], [a, d, b]]);
+        }
+    }
+    mesh
+}
+
+/// Uniform points in `bounds` grown by `margin`, from a fixed seed.
+fn random_points(bounds: Aabb, margin: f32, count: usize) -> Vec<Vec3> {
+    let mut seed = 0x9e37_79b9u32;
+    let mut next = || {
+        seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        (seed >> 8) as f32 / (1 << 24) as f32
+    };
+    let (min, size) = (bounds.min - margin, bounds.max - bounds.min + 2.0 * margin);
+    (0..count)
+        .map(|_| min + Vec3::new(next(), next(), next()) * size)
+        .collect()
+}
+
+/// Distance to the nearest triangle, over all of them.
+fn brute_force_distance(mesh: &MeshCollider, p: Vec3) -> f32 {
+    mesh.triangles()
+        .map(|[a, b, c]| closest_point_on_triangle(p, a, b, c).distance(p))
+        .fold(f32::INFINITY, f32::min)
+}
+
+/// Brute-force signed distance: all triangles, sign from the exact winding number.
+fn brute_force_signed_distance(mesh: &MeshCollider, p: Vec3) -> f32 {
+    let inside = winding_number_brute_force(mesh.triangles(), p) > 0.5;
+    let d = brute_force_distance(mesh, p);
+    if inside {
+        -d
+    } else {
+        d
+    }
+}
+
+#[test]
+fn closest_point_equals_brute_force() {
+    let bunny = shipped_mesh("bunny.obj", 1.0);
+    for p in random_points(bunny.bounds(), 2.0, 2000) {
+        let fast = bunny.closest_point(p).unwrap();
+        let brute = brute_force_distance(&bunny, p);
+        assert!(
+            (fast.distance_squared.sqrt() - brute).abs() <= 1e-5 * (1.0 + brute),
+            "at {p}: bvh {} vs brute force {brute}",
+            fast.distance_squared.sqrt()
+        );
+    }
+}
+
+#[test]
+fn fast_winding_number_is_close_to_brute_force() {
+    let bunny = shipped_mesh("bunny.obj", 1.0);
+    let mut worst = 0.0f32;
+    for p in random_points(bunny.bounds(), 2.0, 1000) {
+        let error =
+            (bunny.winding_number(p) - winding_number_brute_force(bunny.triangles(), p)).abs();
+        worst = worst.max(error);
+    }
+    assert!(worst < 0.05, "largest winding number error {worst}");
+}
+
+/// Checks `signed_distance` against brute force at random points: the sign
+/// wherever the surface is farther than `tolerance`, the value within it
+/// inside `exact_in`, and no less than the true distance beyond it.
+fn check_against_brute_force(
+    mesh: &MeshCollider,
+    signed_distance: impl Fn(Vec3) -> f32,
+    tolerance: f32,
+    exact_in: Aabb,
+) -> (usize, f32) {
+    let (mut inside, mut worst) = (0, 0.0f32);
+    let margin = (mesh.bounds().max - mesh.bounds().min).max_element() * 0.2;
+    for p in random_points(mesh.bounds(), margin, 1500) {
+        let (d, brute) = (signed_distance(p), brute_force_signed_distance(mesh, p));
+        if brute.abs() > tolerance {
+            assert_eq!(
+                d < 0.0,
+                brute < 0.0,
+                "sign at {p}: {d} vs brute force {brute}"
+            );
+        }
+        inside += usize::from(brute < 0.0);
+        if exact_in.contains(p) {
+            worst = worst.max((d - brute).abs());
+            assert!(
+                (d - brute).abs() <= tolerance,
+                "at {p}: {d} vs brute force {brute}"
+            );
+        } else {
+            assert!(
+                d >= brute - tolerance,
+                "at {p}: {d} below brute force {brute}"
+            );
+        }
+    }
+    assert!(inside > 50, "only {inside} points inside");
+    (inside, worst)
+}
+
+#[test]
+fn mesh_collider_signed_distance_equals_brute_force() {
+    let everywhere = Aabb {
+        min: Vec3::NEG_INFINITY,
+        max: Vec3::INFINITY,
+    };
+    for mesh in [
+        shipped_mesh("bunny.obj", 0.05),
+        MeshCollider::new(&uv_sphere(0.3, 24, 48)),
+    ] {
+        let (inside, worst) =
+            check_against_brute_force(&mesh, |p| mesh.signed_distance(p).0, 1e-5, everywhere);
+        println!("{mesh:?}: {inside} points inside, worst error {worst}");
+    }
+}
+
+#[test]
+fn contact_query_stops_at_its_reach() {
+    let bunny = shipped_mesh("bunny.obj", 0.05);
+    let mut near = 0;
+    for p in random_points(bunny.bounds(), 0.1, 3000) {
+        let (d, n) = bunny.signed_distance(p);
+        for reach in [0.0, 0.005, 0.02] {
+            match bunny.signed_distance_within(p, reach) {
+                Some(within) => {
+                    assert_eq!(within, (d, n), "at {p}, reach {reach}");
+                    near += 1;
+                }
+                None => assert!(d >= reach, "at {p}: {d} is within {reach}"),
+            }
+        }
+    }
+    assert!(near > 100, "only {near} queries within reach");
+}
+
+#[test]
+fn baked_sdf_sign_and_distance_within_a_cell() {
+    let cell = 0.01;
+    for mesh in [
+        shipped_mesh("bunny.obj", 0.05),
+        MeshCollider::new(&uv_sphere(0.3, 24, 48)),
+    ] {
+        let grid = SdfGrid::bake(&mesh, cell).unwrap();
+        let (inside, worst) =
+            check_against_brute_force(&mesh, |p| grid.signed_distance(p).0, cell, grid.bounds());
+        println!("{grid:?}: {inside} points inside, worst error {worst} (cell {cell})");
+    }
+}
+
+#[test]
+fn sphere_sdf_matches_the_analytic_distance() {
+    let (radius, cell) = (0.3, 0.01);
+    let sphere = MeshCollider::new(&uv_sphere(radius, 48, 96));
+    let grid = SdfGrid::bake(&sphere, cell).unwrap();
+    for p in random_points(sphere.bounds(), 0.1, 500) {
+        let exact = p.length() - radius;
+        let (d, n) = grid.signed_distance(p);
+        // Inside the grid, the interpolant and its gradient; outside, the box
+        // extension, an upper bound.
+        let within = grid.bounds().contains(p);
+        assert!(
+            (d - exact).abs() < cell || (!within && d > exact),
+            "at {p}: {d} vs {exact}"
+        );
+        let agreement = if within { 0.9 } else { 0.7 };
+        if p.length() > 0.05 {
+            assert!(n.dot(p.normalize()) > agreement, "normal {n} at {p}");
+        }
+    }
+}
+
+#[test]
+fn open_teapot_gets_its_sign_from_the_winding_number() {
+    let teapot = shipped_mesh("teapot.obj", 1.0);
+    for far in [
+        Vec3::X,
+        -Vec3::X,
+        Vec3::Y,
+        -Vec3::Y,
+        Vec3::Z,
+        Vec3::new(1.0, 1.0, -1.0),
+    ] {
+        let p = far * 100.0;
+        assert!(teapot.signed_distance(p).0 > 0.0, "{p} is outside");
+        assert!(winding_number_brute_force(teapot.triangles(), p).abs() < 0.1);
+    }
+    // Inside the body, below the lid, away from the missing bottom.
+    for p in [
+        Vec3::new(0.0, -2.0, 0.0),
+        Vec3::new(3.0, -1.0, 2.0),
+        Vec3::new(-4.0, 0.0, -3.0),
+    ] {
+        let w = teapot.winding_number(p);
+        assert!(w > 0.5, "winding number {w} at {p}");
+        let (d, _) = teapot.signed_distance(p);
+        assert!(d < 0.0, "{p} is inside: {d}");
+    }
+}
+
+#[test]
+fn zero_distance_takes_the_face_normal() {
+    let sphere = MeshCollider::new(&uv_sphere(1.0, 8, 16));
+    let [a, b, c] = sphere.triangles().next().unwrap();
+    let (d, n) = sphere.signed_distance((a + b + c) / 3.0);
+    assert!(d.abs() < 1e-6);
+    assert!(
+        n.dot((a + b + c).normalize()) > 0.9,
+        "outward face normal, got {n}"
+    );
+}
