@@ -1,16 +1,84 @@
-//! A flat spatial hash grid (Teschner et al. 2003): points are binned into
-//! cubic cells, cells hashed into a fixed table, and the table filled by a
-//! counting sort, so that the points of one cell lie next to each other.
+//! A flat spatial hash grid of boxes (Teschner et al. 2003): each box is
+//! entered in every cubic cell it overlaps, cells are hashed into a fixed
+//! table, and the table is filled by a counting sort, so that the entries of
+//! one bucket lie next to each other.
 //!
-//! Buffers are sized by the number of points and kept between builds: a
-//! rebuild over the same points allocates nothing. Building and querying are
-//! deterministic; each point is reported once per query even when two cells
-//! of the query hash to the same bucket.
+//! Buffers are kept between builds: a rebuild with no more entries than
+//! before allocates nothing. Building and querying are deterministic. A query
+//! reports each overlapping box exactly once, without a visited set: a pair
+//! of boxes is reported only from the lowest cell the two share.
 
 use glam::{IVec3, Vec3};
-use rayon::prelude::*;
 
-/// Points binned by cell, queried by box.
+/// An axis-aligned box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    pub min: Vec3,
+    pub max: Vec3,
+}
+
+impl Default for Aabb {
+    fn default() -> Self {
+        Aabb::EMPTY
+    }
+}
+
+impl Aabb {
+    /// The box that contains nothing; the identity of [`Aabb::union`].
+    pub const EMPTY: Aabb = Aabb {
+        min: Vec3::INFINITY,
+        max: Vec3::NEG_INFINITY,
+    };
+
+    /// The box around the segment `a b`.
+    pub fn around(a: Vec3, b: Vec3) -> Aabb {
+        Aabb {
+            min: a.min(b),
+            max: a.max(b),
+        }
+    }
+
+    /// The box grown by `r` on every side.
+    pub fn expanded(self, r: f32) -> Aabb {
+        Aabb {
+            min: self.min - r,
+            max: self.max + r,
+        }
+    }
+
+    pub fn union(self, o: Aabb) -> Aabb {
+        Aabb {
+            min: self.min.min(o.min),
+            max: self.max.max(o.max),
+        }
+    }
+
+    pub fn overlaps(&self, o: &Aabb) -> bool {
+        self.min.cmple(o.max).all() && o.min.cmple(self.max).all()
+    }
+
+    pub fn contains(&self, p: Vec3) -> bool {
+        self.min.cmple(p).all() && p.cmple(self.max).all()
+    }
+
+    /// The longest side.
+    pub fn extent(&self) -> f32 {
+        (self.max - self.min).max_element()
+    }
+}
+
+/// One box entered in one cell, with what a query tests (kept inline, so a
+/// query reads its buckets in order).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Entry {
+    item: u32,
+    cell: IVec3,
+    /// The lowest cell of the box.
+    lowest: IVec3,
+    bounds: Aabb,
+}
+
+/// Boxes binned by cell, queried by box.
 #[derive(Clone, Debug, Default)]
 pub struct HashGrid {
     inv_cell_size: f32,
@@ -18,63 +86,77 @@ pub struct HashGrid {
     mask: u32,
     /// Per bucket: first entry; one more at the end.
     bucket_start: Vec<u32>,
-    /// Point indices sorted by bucket.
-    entries: Vec<u32>,
-    /// Per point: its cell.
-    cell: Vec<IVec3>,
-    /// Per point: its bucket.
-    bucket: Vec<u32>,
+    /// Entries sorted by bucket.
+    entries: Vec<Entry>,
+    /// Entries in item order, before the sort, and their buckets.
+    staged: Vec<Entry>,
+    staged_bucket: Vec<u32>,
 }
 
 impl HashGrid {
-    /// Bins `points` into cells of `cell_size` (positive, finite).
-    pub fn build(&mut self, points: &[Vec3], cell_size: f32) {
-        let n = points.len();
-        let buckets = (2 * n).next_power_of_two().max(2);
+    /// Enters `boxes` (finite) into cells of `cell_size` (positive, finite).
+    pub fn build(&mut self, boxes: &[Aabb], cell_size: f32) {
         self.inv_cell_size = 1.0 / cell_size;
+        self.staged.clear();
+        for (item, b) in boxes.iter().enumerate() {
+            let (lo, hi) = (self.cell_of(b.min), self.cell_of(b.max));
+            for_each_cell(lo, hi, |cell| {
+                self.staged.push(Entry {
+                    item: item as u32,
+                    cell,
+                    lowest: lo,
+                    bounds: *b,
+                })
+            });
+        }
+        let buckets = (2 * self.staged.len()).next_power_of_two().max(2);
         self.mask = buckets as u32 - 1;
-        self.cell.resize(n, IVec3::ZERO);
-        self.bucket.resize(n, 0);
-        self.entries.resize(n, 0);
+        let mask = self.mask;
+        self.staged_bucket.clear();
+        self.staged_bucket
+            .extend(self.staged.iter().map(|e| hash(e.cell) & mask));
         self.bucket_start.clear();
         self.bucket_start.resize(buckets + 1, 0);
-        let (inv, mask) = (self.inv_cell_size, self.mask);
-        (&mut self.cell, &mut self.bucket, points)
-            .into_par_iter()
-            .with_min_len(4096)
-            .for_each(|(cell, bucket, &p)| {
-                *cell = cell_of(p, inv);
-                *bucket = hash(*cell) & mask;
-            });
-        counting_sort(&self.bucket, &mut self.bucket_start, &mut self.entries);
+        self.entries.resize(self.staged.len(), Entry::default());
+        counting_sort(
+            &self.staged,
+            &self.staged_bucket,
+            &mut self.bucket_start,
+            &mut self.entries,
+        );
     }
 
-    /// Calls `f` once for every point whose cell overlaps the box `[min, max]`
-    /// (a superset of the points inside it), in a deterministic order.
-    pub fn for_each_in_box(&self, min: Vec3, max: Vec3, mut f: impl FnMut(u32)) {
-        let lo = cell_of(min, self.inv_cell_size);
-        let hi = cell_of(max, self.inv_cell_size);
-        for z in lo.z..=hi.z {
-            for y in lo.y..=hi.y {
-                for x in lo.x..=hi.x {
-                    let c = IVec3::new(x, y, z);
-                    let b = (hash(c) & self.mask) as usize;
-                    let range = self.bucket_start[b] as usize..self.bucket_start[b + 1] as usize;
-                    for &i in &self.entries[range] {
-                        // Another cell hashed to this bucket: not ours to report.
-                        if self.cell[i as usize] == c {
-                            f(i);
-                        }
-                    }
+    /// Calls `f` exactly once for every box that overlaps `query`, in a
+    /// deterministic order.
+    pub fn for_each_overlapping(&self, query: &Aabb, mut f: impl FnMut(u32)) {
+        let (lo, hi) = (self.cell_of(query.min), self.cell_of(query.max));
+        for_each_cell(lo, hi, |c| {
+            let b = (hash(c) & self.mask) as usize;
+            let range = self.bucket_start[b] as usize..self.bucket_start[b + 1] as usize;
+            for e in &self.entries[range] {
+                // Skip other cells of the bucket, and report a pair only from
+                // the lowest cell both boxes cover.
+                if e.cell == c && e.lowest.max(lo) == c && e.bounds.overlaps(query) {
+                    f(e.item);
                 }
             }
-        }
+        });
+    }
+
+    fn cell_of(&self, p: Vec3) -> IVec3 {
+        // Saturating float-to-int casts keep far points in range.
+        (p * self.inv_cell_size).floor().as_ivec3()
     }
 }
 
-fn cell_of(p: Vec3, inv_cell_size: f32) -> IVec3 {
-    // Saturating float-to-int casts keep far or non-finite points in range.
-    (p * inv_cell_size).floor().as_ivec3()
+fn for_each_cell(lo: IVec3, hi: IVec3, mut f: impl FnMut(IVec3)) {
+    for z in lo.z..=hi.z {
+        for y in lo.y..=hi.y {
+            for x in lo.x..=hi.x {
+                f(IVec3::new(x, y, z));
+            }
+        }
+    }
 }
 
 /// Spatial hash of Teschner et al. (2003).
@@ -83,8 +165,8 @@ fn hash(c: IVec3) -> u32 {
         as u32
 }
 
-/// Stable counting sort of point indices by bucket.
-fn counting_sort(bucket: &[u32], start: &mut [u32], entries: &mut [u32]) {
+/// Stable counting sort of `items` by `bucket`.
+fn counting_sort(items: &[Entry], bucket: &[u32], start: &mut [u32], sorted: &mut [Entry]) {
     for &b in bucket {
         start[b as usize + 1] += 1;
     }
@@ -92,8 +174,8 @@ fn counting_sort(bucket: &[u32], start: &mut [u32], entries: &mut [u32]) {
         start[k] += start[k - 1];
     }
     // `start[b]` is used as the write cursor of bucket `b`, then restored.
-    for (i, &b) in bucket.iter().enumerate() {
-        entries[start[b as usize] as usize] = i as u32;
+    for (e, &b) in items.iter().zip(bucket) {
+        sorted[start[b as usize] as usize] = *e;
         start[b as usize] += 1;
     }
     for k in (1..start.len()).rev() {
@@ -107,7 +189,7 @@ mod tests {
     use super::*;
 
     /// A small deterministic generator (xorshift), so the test needs no crate.
-    fn random_points(n: usize, seed: u64) -> Vec<Vec3> {
+    fn random_boxes(n: usize, size: f32, seed: u64) -> Vec<Aabb> {
         let mut s = seed;
         let mut next = move || {
             s ^= s << 13;
@@ -116,15 +198,19 @@ mod tests {
             (s >> 40) as f32 / (1u64 << 24) as f32
         };
         (0..n)
-            .map(|_| Vec3::new(next(), next(), next()) * 2.0 - 1.0)
+            .map(|_| {
+                let p = Vec3::new(next(), next(), next()) * 2.0 - 1.0;
+                let q = p + Vec3::new(next(), next(), next()) * size;
+                Aabb::around(p, q)
+            })
             .collect()
     }
 
-    fn pairs_from_grid(points: &[Vec3], r: f32, grid: &HashGrid) -> Vec<(u32, u32)> {
+    fn pairs_from_grid(boxes: &[Aabb], grid: &HashGrid) -> Vec<(u32, u32)> {
         let mut pairs = Vec::new();
-        for (i, &p) in points.iter().enumerate() {
-            grid.for_each_in_box(p - r, p + r, |j| {
-                if (i as u32) < j && p.distance(points[j as usize]) < r {
+        for (i, b) in boxes.iter().enumerate() {
+            grid.for_each_overlapping(b, |j| {
+                if (i as u32) < j {
                     pairs.push((i as u32, j));
                 }
             });
@@ -134,39 +220,37 @@ mod tests {
     }
 
     #[test]
-    fn finds_exactly_the_pairs_of_a_brute_force_search() {
+    fn finds_exactly_the_pairs_of_a_brute_force_search_once_each() {
         let mut grid = HashGrid::default();
-        for (seed, r) in [(1, 0.05), (7, 0.2), (42, 0.011)] {
-            let points = random_points(1500, seed);
-            // Cells smaller than, equal to and larger than the radius.
-            for cell in [r * 0.5, r, r * 3.0] {
-                grid.build(&points, cell);
+        for (seed, size) in [(1, 0.05), (7, 0.2), (42, 0.1)] {
+            let boxes = random_boxes(1500, size, seed);
+            // Cells smaller than, equal to and larger than the boxes.
+            for cell in [size * 0.3, size, size * 3.0] {
+                grid.build(&boxes, cell);
                 let mut brute = Vec::new();
-                for i in 0..points.len() {
-                    for j in i + 1..points.len() {
-                        if points[i].distance(points[j]) < r {
+                for i in 0..boxes.len() {
+                    for j in i + 1..boxes.len() {
+                        if boxes[i].overlaps(&boxes[j]) {
                             brute.push((i as u32, j as u32));
                         }
                     }
                 }
                 assert!(!brute.is_empty());
-                assert_eq!(
-                    pairs_from_grid(&points, r, &grid),
-                    brute,
-                    "r {r} cell {cell}"
-                );
+                let found = pairs_from_grid(&boxes, &grid);
+                assert_eq!(found, brute, "size {size} cell {cell}");
             }
         }
     }
 
     #[test]
     fn rebuild_keeps_its_buffers() {
-        let points = random_points(500, 3);
+        let boxes = random_boxes(500, 0.05, 3);
         let mut grid = HashGrid::default();
-        grid.build(&points, 0.1);
+        grid.build(&boxes, 0.1);
         let ptr = grid.entries.as_ptr();
-        let moved: Vec<Vec3> = points.iter().map(|p| *p * 0.5).collect();
-        grid.build(&moved, 0.1);
+        // The same boxes in another order: as many entries.
+        let shuffled: Vec<Aabb> = boxes.iter().rev().copied().collect();
+        grid.build(&shuffled, 0.1);
         assert_eq!(ptr, grid.entries.as_ptr());
     }
 }

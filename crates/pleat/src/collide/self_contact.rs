@@ -12,23 +12,31 @@
 //! static then kinetic, as for colliders). Every correction is equal and
 //! opposite, weighted by inverse mass, so contacts keep linear momentum.
 //!
-//! Broad phase: a Verlet list. Each particle gets a ball that holds its motion
-//! over the substep plus half a skin; candidate pairs and vertex-triangle
-//! pairs whose balls come within the thickness are found over a
-//! [`HashGrid`] and kept until some particle leaves its ball. Neighbours in
-//! the rest mesh are excluded: particle pairs that share an edge or whose
-//! rest distance is below the thickness, and vertex-triangle pairs with a
-//! triangle corner closer at rest than the thickness plus the cloth's longest
-//! edge (the particle pairs handle those).
+//! Broad phase: a Verlet list. Each particle gets a ball that holds its
+//! motion over the substep plus a skin (the larger of half a thickness and
+//! twice its longest substep move since the last broad phase, so a fast
+//! particle grows only its own ball); each triangle gets the box around its
+//! corners' balls. The triangle boxes go into a [`HashGrid`] with cells the
+//! size of a mean triangle box; each particle queries it with its own box
+//! grown by the thickness, and keeps the triangles it comes within the
+//! thickness of as vertex-triangle candidates and their corners it comes
+//! within the thickness of as particle pairs. The list is kept until some
+//! particle leaves its ball. A stretched triangle costs only its own size;
+//! no bound is global. Neighbours in the rest mesh are excluded: particle
+//! pairs that share an edge or whose rest distance is below the thickness,
+//! and vertex-triangle pairs with a triangle corner closer at rest than the
+//! thickness plus the cloth's longest rest edge (the particle pairs handle
+//! those).
 //!
 //! Solve: each contact computes its corrections from the same positions
-//! (in parallel); each particle then gathers its own and applies their
-//! average times a relaxation factor (Macklin et al. 2014, section 4.2) — no
-//! atomics, bit-identical for any thread count. Each contact keeps momentum;
+//! (in parallel); the few that act are then summed per particle in contact
+//! order, and each particle applies their average times a relaxation factor
+//! (Macklin et al. 2014, section 4.2) — no atomics, bit-identical for any
+//! thread count; an iteration where no contact acts ends the solve. Each contact keeps momentum;
 //! averaging over unequal contact counts keeps it only approximately.
 
 use super::ccd::{self, Sweep};
-use super::hash_grid::HashGrid;
+use super::hash_grid::{Aabb, HashGrid};
 use super::Friction;
 use crate::model::Model;
 use glam::Vec3;
@@ -40,8 +48,13 @@ const MAX_CANDIDATES: usize = 48;
 /// Vertex-triangle pairs closer at rest than this many (thickness + longest
 /// edge) never collide: sharp folds bring them near at odd angles.
 const TRIANGLE_EXCLUSION: f32 = 2.0;
-/// Skin of the Verlet list, in thicknesses.
-const SKIN: f32 = 1.0;
+/// Smallest skin of the Verlet boxes, in thicknesses.
+const SKIN: f32 = 0.5;
+/// Skin of the Verlet boxes, in the particle's longest substep move since
+/// the last broad phase: a box holds a few substeps of its motion.
+const LOOKAHEAD: f32 = 2.0;
+/// Grid cell size, in mean triangle boxes.
+const CELL: f32 = 1.0;
 /// Jacobi iterations per substep.
 const ITERATIONS: usize = 3;
 /// Jacobi over-relaxation of the gathered corrections.
@@ -209,45 +222,71 @@ fn csr(rows: usize, items: impl Iterator<Item = (u32, u32)> + Clone) -> (Vec<u32
     (start, values)
 }
 
-/// Verlet balls: where each particle may be until the next broad phase.
+/// Verlet balls: where each particle may be until the next broad phase,
+/// with their boxes and the boxes of the triangles.
 #[derive(Clone, Debug, Default)]
 struct VerletBalls {
     centre: Vec<Vec3>,
     radius: Vec<f32>,
-    max_radius: f32,
-    /// Longest triangle edge between ball centres.
-    longest_edge: f32,
+    /// Per particle: its longest substep move since the last fit.
+    travel: Vec<f32>,
+    particle_box: Vec<Aabb>,
+    triangle_box: Vec<Aabb>,
+    /// Grid cell size: a multiple of the mean triangle box, at least the thickness.
+    cell_size: f32,
 }
 
 impl VerletBalls {
-    fn fit(&mut self, x_prev: &[Vec3], x: &[Vec3], skin: f32, triangles: &[[u32; 3]]) {
-        self.centre.resize(x.len(), Vec3::ZERO);
-        self.radius.resize(x.len(), 0.0);
-        (&mut self.centre, &mut self.radius, x_prev, x)
+    fn fit(&mut self, x_prev: &[Vec3], x: &[Vec3], d: f32, triangles: &[[u32; 3]]) {
+        let n = x.len();
+        self.centre.resize(n, Vec3::ZERO);
+        self.radius.resize(n, 0.0);
+        self.travel.resize(n, 0.0);
+        self.particle_box.resize(n, Aabb::EMPTY);
+        (
+            &mut self.centre,
+            &mut self.radius,
+            &mut self.travel,
+            &mut self.particle_box,
+            (x_prev, x),
+        )
             .into_par_iter()
             .with_min_len(MIN_TASK)
-            .for_each(|(c, r, &a, &b)| {
-                *c = 0.5 * (a + b);
-                *r = 0.5 * a.distance(b) + 0.5 * skin;
+            .for_each(|(c, r, travel, b, (&p, &q))| {
+                let skin = (SKIN * d).max(LOOKAHEAD * travel.max(p.distance(q)));
+                *c = 0.5 * (p + q);
+                *r = 0.5 * p.distance(q) + skin;
+                *b = Aabb::around(*c, *c).expanded(*r);
+                *travel = 0.0;
             });
-        self.max_radius = self.radius.par_iter().copied().reduce(|| 0.0, f32::max);
-        let centre = &self.centre;
-        self.longest_edge = triangles
-            .par_iter()
+        let particle = &self.particle_box;
+        self.triangle_box.resize(triangles.len(), Aabb::EMPTY);
+        self.triangle_box
+            .par_iter_mut()
+            .zip(triangles)
             .with_min_len(MIN_TASK)
-            .map(|t| {
-                let [a, b, c] = t.map(|v| centre[v as usize]);
-                a.distance(b).max(b.distance(c)).max(c.distance(a))
-            })
-            .reduce(|| 0.0, f32::max);
+            .for_each(|(b, t)| {
+                *b = t
+                    .iter()
+                    .fold(Aabb::EMPTY, |u, &k| u.union(particle[k as usize]))
+            });
+        // A sequential sum: the cell size, and so the order candidates are
+        // found in, is the same for any thread count.
+        let total: f32 = self.triangle_box.iter().map(Aabb::extent).sum();
+        self.cell_size = (CELL * total / triangles.len().max(1) as f32).max(d);
     }
 
-    /// Whether every particle is still inside its ball.
-    fn hold(&self, x_prev: &[Vec3], x: &[Vec3]) -> bool {
-        (&self.centre, &self.radius, x_prev, x)
+    /// Whether every particle is still inside its ball; records how far each
+    /// moved (every particle, even past the first that left).
+    fn hold(&mut self, x_prev: &[Vec3], x: &[Vec3]) -> bool {
+        (&self.centre, &self.radius, &mut self.travel, (x_prev, x))
             .into_par_iter()
             .with_min_len(MIN_TASK)
-            .all(|(&c, &r, &a, &b)| c.distance(a) <= r && c.distance(b) <= r)
+            .map(|(&c, &r, travel, (&p, &q))| {
+                *travel = travel.max(p.distance(q));
+                c.distance(p) <= r && c.distance(q) <= r
+            })
+            .reduce(|| true, |a, b| a && b)
     }
 }
 
@@ -267,10 +306,11 @@ pub struct SelfContacts {
     /// Per contact: corrections of its particles, and whether it acted.
     delta: Vec<[Vec3; 4]>,
     active: Vec<bool>,
-    /// Per particle: the contacts it takes part in, as `contact * 4 + role` (CSR).
-    incident_start: Vec<u32>,
-    incident: Vec<u32>,
-    /// Per particle: active contacts in this iteration.
+    /// Contacts that acted in this iteration, in order.
+    acting: Vec<u32>,
+    /// Per particle: sum and number of the corrections of this iteration
+    /// (zero again once applied).
+    sum: Vec<Vec3>,
     count: Vec<u32>,
 }
 
@@ -288,8 +328,8 @@ impl SelfContacts {
             contacts: Vec::with_capacity(n * 4),
             delta: Vec::with_capacity(n * 4),
             active: Vec::with_capacity(n * 4),
-            incident_start: vec![0; n + 1],
-            incident: Vec::with_capacity(n * 8),
+            acting: Vec::with_capacity(n),
+            sum: vec![Vec3::ZERO; n],
             count: vec![0; n],
         }
     }
@@ -311,6 +351,10 @@ impl SelfContacts {
         stats.candidates = self.contacts.len();
         for _ in 0..ITERATIONS {
             stats.active = self.solve(x, x_prev, inv_mass);
+            // Nothing moved: the next iterations would find the same.
+            if stats.active == 0 {
+                break;
+            }
         }
         stats
     }
@@ -318,10 +362,9 @@ impl SelfContacts {
     /// Rebuilds the Verlet list; returns the number of dropped candidates.
     fn broad_phase(&mut self, x_prev: &[Vec3], x: &[Vec3], inv_mass: &[f32]) -> usize {
         let d = self.settings.thickness;
-        self.balls.fit(x_prev, x, SKIN * d, &self.rest.triangles);
-        let reach = self.balls.max_radius + d + self.balls.longest_edge;
+        self.balls.fit(x_prev, x, d, &self.rest.triangles);
         self.grid
-            .build(&self.balls.centre, reach + self.balls.max_radius);
+            .build(&self.balls.triangle_box, self.balls.cell_size);
         let (rest, grid, balls) = (&self.rest, &self.grid, &self.balls);
         let dropped: usize = self
             .slots
@@ -335,7 +378,7 @@ impl SelfContacts {
                     len: 0,
                     dropped: 0,
                 };
-                candidates_of(i as u32, reach, rest, grid, balls, inv_mass, d, &mut out);
+                candidates_of(i as u32, rest, grid, balls, inv_mass, d, &mut out);
                 *len = out.len as u32;
                 out.dropped
             })
@@ -346,42 +389,17 @@ impl SelfContacts {
         }
         self.delta.resize(self.contacts.len(), [Vec3::ZERO; 4]);
         self.active.resize(self.contacts.len(), false);
-        self.index_incidence();
         dropped
-    }
-
-    /// Fills `incident` by a stable counting sort of the contacts' particles
-    /// (`count` serves as the write cursor; `solve` refills it).
-    fn index_incidence(&mut self) {
-        let start = &mut self.incident_start;
-        start.fill(0);
-        for c in &self.contacts {
-            for &p in c.particles() {
-                start[p as usize + 1] += 1;
-            }
-        }
-        for k in 1..start.len() {
-            start[k] += start[k - 1];
-        }
-        self.incident.resize(start[start.len() - 1] as usize, 0);
-        self.count.copy_from_slice(&start[..start.len() - 1]);
-        for (k, c) in self.contacts.iter().enumerate() {
-            for (role, &p) in c.particles().iter().enumerate() {
-                let cursor = &mut self.count[p as usize];
-                self.incident[*cursor as usize] = (k * 4 + role) as u32;
-                *cursor += 1;
-            }
-        }
     }
 
     /// One Jacobi iteration over the candidates; returns the active count.
     fn solve(&mut self, x: &mut [Vec3], x_prev: &[Vec3], inv_mass: &[f32]) -> usize {
         let s = self.settings;
         let xs: &[Vec3] = x;
-        (&self.contacts, &mut self.delta, &mut self.active)
+        let found: usize = (&self.contacts, &mut self.delta, &mut self.active)
             .into_par_iter()
             .with_min_len(MIN_TASK)
-            .for_each(|(c, delta, active)| {
+            .map(|(c, delta, active)| {
                 let r = if c.vertex_triangle {
                     vertex_triangle_correction(c.v, xs, x_prev, inv_mass, &s)
                 } else {
@@ -389,33 +407,40 @@ impl SelfContacts {
                 };
                 *active = r.is_some();
                 *delta = r.unwrap_or_default();
-            });
-        let (start, incident, active) = (&self.incident_start, &self.incident, &self.active);
-        self.count
-            .par_iter_mut()
-            .enumerate()
-            .with_min_len(MIN_TASK)
-            .for_each(|(p, n)| {
-                let mine = &incident[start[p] as usize..start[p + 1] as usize];
-                *n = mine.iter().filter(|&&e| active[e as usize / 4]).count() as u32;
-            });
-        let (delta, count) = (&self.delta, &self.count);
-        x.par_iter_mut()
-            .enumerate()
-            .with_min_len(MIN_TASK)
-            .for_each(|(p, xp)| {
-                if count[p] == 0 {
-                    return;
+                usize::from(*active)
+            })
+            .sum();
+        if found == 0 {
+            return 0;
+        }
+        self.acting.clear();
+        self.acting
+            .extend((0..self.contacts.len() as u32).filter(|&k| self.active[k as usize]));
+        self.gather(x);
+        found
+    }
+
+    /// Moves each particle by the average of the corrections of the acting
+    /// contacts, times the relaxation: summed in contact order, so the result
+    /// does not depend on the thread count.
+    fn gather(&mut self, x: &mut [Vec3]) {
+        for &k in &self.acting {
+            let c = &self.contacts[k as usize];
+            for (&p, d) in c.particles().iter().zip(self.delta[k as usize]) {
+                self.sum[p as usize] += d;
+                self.count[p as usize] += 1;
+            }
+        }
+        for &k in &self.acting {
+            for &p in self.contacts[k as usize].particles() {
+                let p = p as usize;
+                if self.count[p] > 0 {
+                    x[p] += self.sum[p] * (RELAXATION / self.count[p] as f32);
+                    self.sum[p] = Vec3::ZERO;
+                    self.count[p] = 0;
                 }
-                let mut sum = Vec3::ZERO;
-                for &e in &incident[start[p] as usize..start[p + 1] as usize] {
-                    if active[e as usize / 4] {
-                        sum += delta[e as usize / 4][e as usize % 4];
-                    }
-                }
-                *xp += sum * (RELAXATION / count[p] as f32);
-            });
-        self.active.iter().filter(|&&a| a).count()
+            }
+        }
     }
 }
 
@@ -439,11 +464,10 @@ impl SlotWriter<'_> {
 }
 
 /// Candidate contacts owned by particle `i`: pairs with larger-index
-/// particles, and `i` as the vertex of vertex-triangle contacts.
-#[allow(clippy::too_many_arguments)]
+/// particles, and `i` as the vertex of vertex-triangle contacts, whose balls
+/// come within the thickness `d`, among the triangles the grid finds.
 fn candidates_of(
     i: u32,
-    reach: f32,
     rest: &RestNeighbourhood,
     grid: &HashGrid,
     balls: &VerletBalls,
@@ -451,51 +475,64 @@ fn candidates_of(
     d: f32,
     out: &mut SlotWriter,
 ) {
-    let ci = balls.centre[i as usize];
-    let ri = balls.radius[i as usize];
-    let query = ri + reach;
-    let within = |j: u32| ci.distance_squared(balls.centre[j as usize]) <= query * query;
+    let (ci, ri) = (balls.centre[i as usize], balls.radius[i as usize]);
+    let query = balls.particle_box[i as usize].expanded(d);
+    let near = |j: u32| ci.distance(balls.centre[j as usize]) < ri + balls.radius[j as usize] + d;
     let dynamic = |v: &[u32]| v.iter().any(|&k| inv_mass[k as usize] > 0.0);
-    grid.for_each_in_box(ci - query, ci + query, |j| {
-        if j == i || !within(j) {
-            return;
-        }
-        let rj = balls.radius[j as usize];
-        if j > i
-            && ci.distance(balls.centre[j as usize]) < ri + rj + d
-            && dynamic(&[i, j])
-            && !rest.pair_excluded(i, j)
-        {
-            out.push(Contact {
-                v: [i, j, 0, 0],
-                vertex_triangle: false,
-            });
-        }
-        if rest.corner_excludes(i, j) {
-            return;
-        }
-        for &t in rest.fan(j) {
-            let tri = rest.triangles[t as usize];
-            // Visit each triangle once: from its first corner inside the query.
-            if tri.iter().find(|&&k| within(k)) != Some(&j)
-                || tri.iter().any(|&k| rest.corner_excludes(i, k))
+    grid.for_each_overlapping(&query, |t| {
+        let tri = rest.triangles[t as usize];
+        for j in tri {
+            if j > i
+                && near(j)
+                && first_meeting(t, j, &query, rest, balls)
+                && dynamic(&[i, j])
+                && !rest.pair_excluded(i, j)
             {
-                continue;
-            }
-            let [a, b, c] = tri.map(|k| balls.centre[k as usize]);
-            let rt = tri
-                .map(|k| balls.radius[k as usize])
-                .into_iter()
-                .fold(0.0, f32::max);
-            let v = [i, tri[0], tri[1], tri[2]];
-            if point_triangle_distance(ci, a, b, c) < ri + rt + d && dynamic(&v) {
                 out.push(Contact {
-                    v,
-                    vertex_triangle: true,
+                    v: [i, j, 0, 0],
+                    vertex_triangle: false,
                 });
             }
         }
+        let v = [i, tri[0], tri[1], tri[2]];
+        if !tri.iter().any(|&k| rest.corner_excludes(i, k))
+            && ball_meets_triangle(i, tri, balls, d)
+            && dynamic(&v)
+        {
+            out.push(Contact {
+                v,
+                vertex_triangle: true,
+            });
+        }
     });
+}
+
+/// Whether `i`'s ball comes within `d` of the triangle swept by its corners' balls.
+fn ball_meets_triangle(i: u32, tri: [u32; 3], balls: &VerletBalls, d: f32) -> bool {
+    let [a, b, c] = tri.map(|k| balls.centre[k as usize]);
+    let rt = tri
+        .map(|k| balls.radius[k as usize])
+        .into_iter()
+        .fold(0.0, f32::max);
+    let (ci, ri) = (balls.centre[i as usize], balls.radius[i as usize]);
+    point_triangle_distance(ci, a, b, c) < ri + rt + d
+}
+
+/// Whether `j`'s box meets `query` and `t` is the first triangle around `j`
+/// whose box does: a pair is met through every such triangle, kept from one.
+fn first_meeting(
+    t: u32,
+    j: u32,
+    query: &Aabb,
+    rest: &RestNeighbourhood,
+    balls: &VerletBalls,
+) -> bool {
+    balls.particle_box[j as usize].overlaps(query)
+        && rest
+            .fan(j)
+            .iter()
+            .find(|&&s| balls.triangle_box[s as usize].overlaps(query))
+            == Some(&t)
 }
 
 /// Share of a tangential slide `slide` that friction removes, given the
