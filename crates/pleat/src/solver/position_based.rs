@@ -65,6 +65,53 @@ impl HardPins {
     }
 }
 
+/// The start of a substep: wind on the velocities, then the prediction
+/// `x += dt v` with gravity and damping, then hard pins on their targets.
+pub struct Prediction {
+    triangles: Vec<[u32; 3]>,
+    wind: WindForces,
+    hard_pins: HardPins,
+}
+
+impl Prediction {
+    /// The prediction stage of `model`, and its soft attachments for the
+    /// solver to project.
+    pub fn new(model: &Model) -> (Self, Vec<Attachment>) {
+        let (hard_pins, soft) = attachments(model);
+        let prediction = Prediction {
+            triangles: model.triangles.clone(),
+            wind: WindForces::new(&model.triangles, model.particle_count()),
+            hard_pins,
+        };
+        (prediction, soft)
+    }
+
+    pub fn hard_pin_count(&self) -> usize {
+        self.hard_pins.len()
+    }
+
+    /// Predicts the positions at `t + dt` from the state at `t`.
+    pub fn run(
+        &mut self,
+        p: &mut Particles,
+        world: &World,
+        damping: f32,
+        t: f32,
+        dt: f32,
+        stages: &mut StageTimes,
+    ) {
+        if let Some(wind) = &world.wind {
+            StageTimes::time(&mut stages.forces, || {
+                self.wind.apply(wind, &self.triangles, p, t, dt)
+            });
+        }
+        StageTimes::time(&mut stages.predict, || {
+            predict(p, world.gravity, damping, dt);
+            self.hard_pins.place(&mut p.x, t + dt);
+        });
+    }
+}
+
 /// Cloth-collider contacts with friction, over one step at a time.
 pub struct Contacts {
     thickness: Vec<f32>,
@@ -113,31 +160,27 @@ impl Contacts {
 /// The PBD frame loop around a solver's constraint projection.
 pub struct PbdLoop {
     settings: SolverSettings,
-    hard_pins: HardPins,
+    prediction: Prediction,
     /// Solved with their XPBD compliance after each constraint iteration.
     soft_pins: ColoredConstraints<Attachment>,
     contacts: Contacts,
-    triangles: Vec<[u32; 3]>,
-    wind: WindForces,
 }
 
 impl PbdLoop {
     pub fn new(model: &Model, settings: &SolverSettings) -> Self {
         let n = model.particle_count();
-        let (hard_pins, soft) = attachments(model);
+        let (prediction, soft) = Prediction::new(model);
         PbdLoop {
             settings: *settings,
-            hard_pins,
+            prediction,
             soft_pins: ColoredConstraints::new(soft, n),
             contacts: Contacts::new(model),
-            triangles: model.triangles.clone(),
-            wind: WindForces::new(&model.triangles, n),
         }
     }
 
     /// Pins of both kinds.
     pub fn pin_count(&self) -> usize {
-        self.hard_pins.len() + self.soft_pins.len()
+        self.prediction.hard_pin_count() + self.soft_pins.len()
     }
 
     /// Advances one frame; `project` runs one iteration of the solver's constraints.
@@ -166,15 +209,8 @@ impl PbdLoop {
         stages: &mut StageTimes,
         project: &mut impl FnMut(&mut Particles),
     ) {
-        if let Some(wind) = &world.wind {
-            StageTimes::time(&mut stages.forces, || {
-                self.wind.apply(wind, &self.triangles, p, t, dt)
-            });
-        }
-        StageTimes::time(&mut stages.predict, || {
-            predict(p, world.gravity, self.settings.damping, dt);
-            self.hard_pins.place(&mut p.x, t + dt);
-        });
+        self.prediction
+            .run(p, world, self.settings.damping, t, dt, stages);
         StageTimes::time(&mut stages.constraints, || {
             for a in &mut self.soft_pins.items {
                 a.update_target(t + dt);

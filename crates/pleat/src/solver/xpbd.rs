@@ -6,14 +6,13 @@
 //! change of position.
 
 use super::parallel::ColoredConstraints;
-use super::position_based::{attachments, inverse_masses, Contacts, HardPins};
+use super::position_based::{inverse_masses, Contacts, Prediction};
 use super::springs::skip_one_pairs;
 use super::{SolverKind, SolverSettings, StageTimes};
 use crate::collide::SelfContacts;
 use crate::constraint::{
     Attachment, DihedralBending, DistanceConstraint, IsometricBending, OrigamiHinge, Tether,
 };
-use crate::force::WindForces;
 use crate::material::BendingModel;
 use crate::model::{ClothPart, Model};
 use crate::particles::Particles;
@@ -36,9 +35,7 @@ pub struct Xpbd {
     /// Attachments with compliance: solved with the other constraints.
     soft_attachments: ColoredConstraints<Attachment>,
     /// Attachments with compliance zero: their particles are moved onto the target.
-    hard_pins: HardPins,
-    triangles: Vec<[u32; 3]>,
-    wind: WindForces,
+    prediction: Prediction,
     contacts: Contacts,
     /// Self-collision and cloth-cloth contact, when enabled.
     self_contacts: Option<SelfContacts>,
@@ -86,7 +83,7 @@ impl Xpbd {
                 ));
             }
         }
-        let (hard_pins, soft) = attachments(model);
+        let (prediction, soft) = Prediction::new(model);
         Xpbd {
             settings: *settings,
             distance: ColoredConstraints::new(distance, n),
@@ -95,9 +92,7 @@ impl Xpbd {
             hinges: ColoredConstraints::new(hinges, n),
             tethers: ColoredConstraints::new(tethers, n),
             soft_attachments: ColoredConstraints::new(soft, n),
-            hard_pins,
-            triangles: model.triangles.clone(),
-            wind: WindForces::new(&model.triangles, n),
+            prediction,
             contacts: Contacts::new(model),
             self_contacts: settings
                 .self_collision
@@ -115,15 +110,8 @@ impl Xpbd {
         dt: f32,
         stages: &mut StageTimes,
     ) {
-        if let Some(wind) = &world.wind {
-            StageTimes::time(&mut stages.forces, || {
-                self.wind.apply(wind, &self.triangles, p, t, dt)
-            });
-        }
-        StageTimes::time(&mut stages.predict, || {
-            predict(p, world.gravity, self.settings.damping, dt);
-            self.hard_pins.place(&mut p.x, t + dt);
-        });
+        self.prediction
+            .run(p, world, self.settings.damping, t, dt, stages);
         StageTimes::time(&mut stages.constraints, || {
             self.project_constraints(p, t + dt, dt)
         });
@@ -176,7 +164,7 @@ impl super::Solver for Xpbd {
             + self.hinges.len()
             + self.tethers.len()
             + self.soft_attachments.len()
-            + self.hard_pins.len()
+            + self.prediction.hard_pin_count()
     }
 
     fn set_fold_progress(&mut self, c: f32) {
