@@ -23,6 +23,8 @@ pub mod scene;
 pub mod simulation;
 pub mod solver;
 pub mod stability;
+#[cfg(test)]
+mod test_rng;
 pub mod world;
 
 pub use glam;

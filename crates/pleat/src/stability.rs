@@ -37,13 +37,17 @@ pub enum Instability {
 pub struct StabilityMonitor {
     /// Simulated time (s) and kind of the first instability.
     pub first: Option<(f32, Instability)>,
+    /// The model's part of the energy scale, measured at the first check.
+    extent: Option<RestExtent>,
 }
 
 impl StabilityMonitor {
     /// Checks the state at the world's time; the first instability found is kept.
     pub fn check(&mut self, model: &Model, world: &World, particles: &Particles) {
         if self.first.is_none() {
-            self.first = instability(model, world, particles).map(|kind| (world.time, kind));
+            let extent = *self.extent.get_or_insert_with(|| RestExtent::of(model));
+            self.first =
+                instability_within(extent, model, world, particles).map(|kind| (world.time, kind));
         }
     }
 
@@ -54,10 +58,19 @@ impl StabilityMonitor {
 
 /// The instability of a state, if any.
 pub fn instability(model: &Model, world: &World, particles: &Particles) -> Option<Instability> {
+    instability_within(RestExtent::of(model), model, world, particles)
+}
+
+fn instability_within(
+    extent: RestExtent,
+    model: &Model,
+    world: &World,
+    particles: &Particles,
+) -> Option<Instability> {
     if particles.has_non_finite() {
         Some(Instability::NonFinite)
     } else if mechanical_energy(model, world, particles)
-        > RUNAWAY_ENERGY * energy_scale(model, world)
+        > RUNAWAY_ENERGY * energy_scale(extent, model, world)
     {
         Some(Instability::Runaway)
     } else {
@@ -69,13 +82,8 @@ pub fn instability(model: &Model, world: &World, particles: &Particles) -> Optio
 /// the dynamic mass, `L` the diagonal of the rest shape's bounding box and
 /// `v` the fastest the world moves (wind with its turbulence, scripted pins
 /// and colliders) plus one metre per second.
-pub fn energy_scale(model: &Model, world: &World) -> f32 {
-    let mass: f32 = model.mass.iter().sum();
-    let (lo, hi) = model.rest.iter().fold(
-        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-        |(lo, hi), x| (lo.min(*x), hi.max(*x)),
-    );
-    let (size, centre) = ((hi - lo).length().max(0.0), (lo + hi) / 2.0);
+pub fn energy_scale(extent: RestExtent, model: &Model, world: &World) -> f32 {
+    let RestExtent { mass, size, centre } = extent;
     let wind = world.wind.map_or(0.0, |w| {
         w.velocity.length() * (1.0 + w.turbulence * 3f32.sqrt())
     });
@@ -89,6 +97,31 @@ pub fn energy_scale(model: &Model, world: &World) -> f32 {
         .fold(0.0, f32::max);
     let v = SPEED_FLOOR + wind + moving;
     mass * (world.gravity.length() * size + 0.5 * v * v)
+}
+
+/// What the energy scale needs from the rest shape: it does not change while
+/// a simulation runs, so a monitor measures it once.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RestExtent {
+    /// Dynamic mass (kg).
+    pub mass: f32,
+    /// Diagonal of the rest shape's bounding box (m).
+    pub size: f32,
+    pub centre: Vec3,
+}
+
+impl RestExtent {
+    pub fn of(model: &Model) -> Self {
+        let (lo, hi) = model.rest.iter().fold(
+            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+            |(lo, hi), x| (lo.min(*x), hi.max(*x)),
+        );
+        RestExtent {
+            mass: model.mass.iter().sum(),
+            size: (hi - lo).length().max(0.0),
+            centre: (lo + hi) / 2.0,
+        }
+    }
 }
 
 /// A bound on the speed of a point of the scene (within `size` of `centre`) under `m`.

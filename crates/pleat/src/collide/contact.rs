@@ -38,6 +38,9 @@ pub fn project_contacts(
     colliders: &[Collider],
     poses: &[ColliderPose],
 ) -> usize {
+    if colliders.is_empty() {
+        return 0;
+    }
     x.par_iter_mut()
         .enumerate()
         .with_min_len(1024)

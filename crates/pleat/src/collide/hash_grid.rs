@@ -187,20 +187,14 @@ fn counting_sort(items: &[Entry], bucket: &[u32], start: &mut [u32], sorted: &mu
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_rng::Rng;
 
-    /// A small deterministic generator (xorshift), so the test needs no crate.
     fn random_boxes(n: usize, size: f32, seed: u64) -> Vec<Aabb> {
-        let mut s = seed;
-        let mut next = move || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut rng = Rng(seed);
         (0..n)
             .map(|_| {
-                let p = Vec3::new(next(), next(), next()) * 2.0 - 1.0;
-                let q = p + Vec3::new(next(), next(), next()) * size;
+                let p = rng.vec3() * 2.0 - 1.0;
+                let q = p + rng.vec3() * size;
                 Aabb::around(p, q)
             })
             .collect()

@@ -88,6 +88,7 @@ fn share_a_vertex(a: [u32; 3], b: [u32; 3]) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_rng::Rng;
     use std::f32::consts::PI;
 
     /// Positions and triangles of an n x n vertex grid over [0, 1]^2 in the
@@ -142,17 +143,6 @@ mod tests {
             }
         }
         pairs
-    }
-
-    /// Deterministic xorshift generator.
-    struct Rng(u64);
-    impl Rng {
-        fn unit(&mut self) -> f32 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            (self.0 >> 40) as f32 / (1u64 << 24) as f32
-        }
     }
 
     #[test]
@@ -244,9 +234,8 @@ mod tests {
             let (mut positions, mut triangles) = (Vec::new(), Vec::new());
             let size = 0.05 + 0.05 * soup as f32;
             for t in 0..300u32 {
-                let centre = Vec3::new(rng.unit(), rng.unit(), rng.unit());
-                let mut corner =
-                    || centre + (Vec3::new(rng.unit(), rng.unit(), rng.unit()) - 0.5) * size;
+                let centre = rng.vec3();
+                let mut corner = || centre + (rng.vec3() - 0.5) * size;
                 let base = positions.len() as u32;
                 positions.extend([corner(), corner(), corner()]);
                 let first = if t > 0 && t % 2 == 0 { base - 1 } else { base };

@@ -34,7 +34,7 @@ pub struct Xpbd {
     tethers: ColoredConstraints<Tether>,
     /// Attachments with compliance: solved with the other constraints.
     soft_attachments: ColoredConstraints<Attachment>,
-    /// Attachments with compliance zero: their particles are moved onto the target.
+    /// Wind, prediction and the hard pins (attachments with compliance zero).
     prediction: Prediction,
     contacts: Contacts,
     /// Self-collision and cloth-cloth contact, when enabled.

@@ -176,6 +176,7 @@ fn orient_2d(a: DVec2, b: DVec2, c: DVec2) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_rng::Rng;
 
     fn tri(a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> Triangle {
         Triangle::new(a.into(), b.into(), c.into()).expect("non-degenerate")
@@ -204,20 +205,6 @@ mod tests {
         let crosses =
             |x: &Triangle, y: &Triangle| (0..3).any(|i| edge_crosses(x.v[i], x.v[(i + 1) % 3], y));
         crosses(a, b) || crosses(b, a)
-    }
-
-    /// Deterministic xorshift generator.
-    struct Rng(u64);
-    impl Rng {
-        fn unit(&mut self) -> f32 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            (self.0 >> 40) as f32 / (1u64 << 24) as f32
-        }
-        fn point(&mut self) -> [f32; 3] {
-            [self.unit(), self.unit(), self.unit()]
-        }
     }
 
     #[test]
