@@ -13,6 +13,17 @@ fn pleat(args: &[&str]) -> Output {
         .expect("pleat runs")
 }
 
+/// Runs `pleat` and fails the test, showing its stderr, unless it succeeds.
+fn pleat_ok(args: &[&str]) -> Output {
+    let out = pleat(args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
 fn out_dir(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("pleat-cli-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
@@ -35,12 +46,7 @@ fn physics_fields(mut report: Value) -> Value {
 #[test]
 fn default_run_writes_the_report_contract() {
     let dir = out_dir("default");
-    let out = pleat(&["run", "--frames", "5", "--out", dir.to_str().unwrap()]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    pleat_ok(&["run", "--frames", "5", "--out", dir.to_str().unwrap()]);
     let r = report(&dir);
     for key in [
         "scene",
@@ -82,7 +88,7 @@ fn one_and_two_threads_give_identical_results() {
             .iter()
             .map(|t| {
                 let dir = out_dir(&format!("threads{t}-{}", scene.replace('/', "_")));
-                let out = pleat(&[
+                pleat_ok(&[
                     "run",
                     scene,
                     "--frames",
@@ -94,11 +100,6 @@ fn one_and_two_threads_give_identical_results() {
                     "--out",
                     dir.to_str().unwrap(),
                 ]);
-                assert!(
-                    out.status.success(),
-                    "{}",
-                    String::from_utf8_lossy(&out.stderr)
-                );
                 dir
             })
             .collect();
@@ -118,7 +119,7 @@ fn one_and_two_threads_give_identical_results() {
 #[test]
 fn glb_export_is_one_animated_file() {
     let dir = out_dir("glb");
-    let out = pleat(&[
+    pleat_ok(&[
         "run",
         "scenes/hanging.json",
         "--frames",
@@ -130,11 +131,6 @@ fn glb_export_is_one_animated_file() {
         "--out",
         dir.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let glb = gltf::Gltf::open(dir.join("anim.glb")).expect("valid glb");
     let mesh = glb.meshes().next().unwrap();
     let targets = mesh.primitives().next().unwrap().morph_targets().count();
@@ -197,14 +193,9 @@ fn check_reports_every_file_and_fails_on_a_bad_one() {
 
 #[test]
 fn bench_json_lines() {
-    let out = pleat(&[
+    let out = pleat_ok(&[
         "bench", "--sizes", "8,12", "--frames", "2", "--warmup", "1", "--json",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let lines: Vec<Value> = String::from_utf8_lossy(&out.stdout)
         .lines()
         .map(|l| serde_json::from_str(l).unwrap())
