@@ -1,10 +1,11 @@
-//! Continuous collision detection of a vertex against a triangle (Provot 1997;
-//! Bridson et al. 2002): with every point moving linearly over the substep,
-//! the vertex meets the triangle's plane when the triple product
-//! `(b - a) x (c - a) . (p - a)`, a cubic in `t`, vanishes. The cubic is split
-//! at the roots of its derivative into monotone pieces, each bracketed and
-//! solved by safeguarded Newton iteration, earliest first; a root counts when
-//! the vertex lies inside the triangle at that time.
+//! Continuous collision detection of a vertex against a triangle and of an
+//! edge against an edge (Provot 1997; Bridson et al. 2002): with every point
+//! moving linearly over the substep, four points become coplanar when the
+//! triple product `(b - a) x (c - a) . (p - a)`, a cubic in `t`, vanishes. The
+//! cubic is split at the roots of its derivative into monotone pieces, each
+//! bracketed and solved by safeguarded Newton iteration, earliest first; a
+//! root counts when the vertex lies inside the triangle, or the two edges
+//! meet, at that time.
 //!
 //! The arithmetic is `f64`: the triple product of small cloth edges is tiny.
 
@@ -44,6 +45,66 @@ pub fn vertex_triangle(p: Sweep, a: Sweep, b: Sweep, c: Sweep) -> Option<Hit> {
         Some(())
     });
     found
+}
+
+/// Where two edges first meet: the time in `[0, 1]` and the parameters of the
+/// meeting point along each edge (`0` at its first end, `1` at its second).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EdgeHit {
+    pub t: f32,
+    pub s: f32,
+    pub u: f32,
+}
+
+/// The earliest time the edges `a0 a1` and `b0 b1` cross, if they do.
+pub fn edge_edge(a0: Sweep, a1: Sweep, b0: Sweep, b1: Sweep) -> Option<EdgeHit> {
+    let at = |s: Sweep, t: f32| s.start.lerp(s.end, t);
+    let k = coplanarity_cubic(b1, a0, a1, b0);
+    let mut found = None;
+    for_each_root(k, |t| {
+        let t = t as f32;
+        let [p0, p1, q0, q1] = [a0, a1, b0, b1].map(|e| at(e, t));
+        let (s, u) = segment_closest_params(p0, p1, q0, q1);
+        let gap = p0.lerp(p1, s).distance(q0.lerp(q1, u));
+        let scale = p0.distance(p1).max(q0.distance(q1));
+        (gap <= INSIDE_TOLERANCE as f32 * scale).then_some(())?;
+        found = Some(EdgeHit { t, s, u });
+        Some(())
+    });
+    found
+}
+
+/// Parameters `(s, u)` in `[0, 1]` of the closest points of the segments
+/// `p0 p1` and `q0 q1` (Ericson, Real-Time Collision Detection 5.1.9).
+pub fn segment_closest_params(p0: Vec3, p1: Vec3, q0: Vec3, q1: Vec3) -> (f32, f32) {
+    let (d1, d2, r) = (p1 - p0, q1 - q0, p0 - q0);
+    let (a, e, f) = (d1.length_squared(), d2.length_squared(), d2.dot(r));
+    if a <= f32::EPSILON && e <= f32::EPSILON {
+        return (0.0, 0.0);
+    }
+    if a <= f32::EPSILON {
+        return (0.0, (f / e).clamp(0.0, 1.0));
+    }
+    let c = d1.dot(r);
+    if e <= f32::EPSILON {
+        return ((-c / a).clamp(0.0, 1.0), 0.0);
+    }
+    let b = d1.dot(d2);
+    let denom = a * e - b * b;
+    let mut s = if denom > 0.0 {
+        ((b * f - c * e) / denom).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let mut u = (b * s + f) / e;
+    if u < 0.0 {
+        u = 0.0;
+        s = (-c / a).clamp(0.0, 1.0);
+    } else if u > 1.0 {
+        u = 1.0;
+        s = ((b - c) / a).clamp(0.0, 1.0);
+    }
+    (s, u)
 }
 
 /// Coefficients `k[0] + k[1] t + k[2] t^2 + k[3] t^3` of the triple product.
@@ -213,6 +274,52 @@ mod tests {
             end: Vec3::new(0.8, -1.0, 0.8),
         };
         assert_eq!(vertex_triangle(p, a, b, c), None);
+    }
+
+    #[test]
+    fn crossing_edges_are_found_where_they_meet() {
+        // A still edge along x; another, along z, drops through it at t = 0.4.
+        let a0 = still(Vec3::new(-1.0, 0.0, 0.0));
+        let a1 = still(Vec3::new(1.0, 0.0, 0.0));
+        let b0 = Sweep {
+            start: Vec3::new(0.5, 0.4, -1.0),
+            end: Vec3::new(0.5, -0.6, -1.0),
+        };
+        let b1 = Sweep {
+            start: Vec3::new(0.5, 0.4, 3.0),
+            end: Vec3::new(0.5, -0.6, 3.0),
+        };
+        let hit = edge_edge(a0, a1, b0, b1).expect("crosses");
+        assert!((hit.t - 0.4).abs() < 1e-5, "{hit:?}");
+        assert!(
+            (hit.s - 0.75).abs() < 1e-4 && (hit.u - 0.25).abs() < 1e-4,
+            "{hit:?}"
+        );
+        // Shifted past the end of the still edge, it passes by.
+        let shift = |s: Sweep| Sweep {
+            start: s.start + Vec3::X * 0.6,
+            end: s.end + Vec3::X * 0.6,
+        };
+        assert_eq!(edge_edge(a0, a1, shift(b0), shift(b1)), None);
+    }
+
+    #[test]
+    fn closest_params_match_a_fine_search() {
+        let mut rng = crate::test_rng::Rng(9);
+        for _ in 0..200 {
+            let [p0, p1, q0, q1] = [(); 4].map(|_| rng.vec3() * 2.0 - 1.0);
+            let (s, u) = segment_closest_params(p0, p1, q0, q1);
+            let best = p0.lerp(p1, s).distance(q0.lerp(q1, u));
+            let steps = 100;
+            let brute = (0..=steps)
+                .flat_map(|i| (0..=steps).map(move |j| (i, j)))
+                .map(|(i, j)| {
+                    let (a, b) = (i as f32 / steps as f32, j as f32 / steps as f32);
+                    p0.lerp(p1, a).distance(q0.lerp(q1, b))
+                })
+                .fold(f32::MAX, f32::min);
+            assert!(best <= brute + 1e-5, "{best} > {brute}");
+        }
     }
 
     #[test]

@@ -1,0 +1,336 @@
+//! Contact corrections, as XPBD contact constraints of compliance zero
+//! (Macklin et al. 2014, "Unified particle physics"), each computed from the
+//! current positions alone so that all contacts can be evaluated in parallel:
+//!
+//! - particle-particle: `C = |x_i - x_j| - thickness >= 0`;
+//! - vertex-triangle: `C = s n . (p - q) - thickness >= 0`, with `q` the
+//!   contact point on the triangle and `s` the side the vertex came from; a
+//!   vertex that crossed the triangle's plane within the substep is caught by
+//!   continuous collision detection ([`ccd::vertex_triangle`]) and pulled back;
+//! - edge-edge: `C = n . (p_a - p_b) - thickness >= 0` between the closest
+//!   points of the two edges, along their separation; edges that crossed
+//!   during the substep ([`ccd::edge_edge`], found once per substep) are
+//!   pulled back along the separation they had at its start.
+//!
+//! Each contact also removes relative tangential motion (Coulomb friction,
+//! static then kinetic, as for colliders). Every correction is equal and
+//! opposite, weighted by inverse mass, so each contact keeps linear momentum.
+
+use super::SelfCollision;
+use crate::collide::ccd::{self, Sweep};
+use crate::collide::Friction;
+use glam::Vec3;
+
+/// Where two edges crossed during the substep and which way they were apart
+/// before.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Crossing {
+    pub s: f32,
+    pub u: f32,
+    /// Unit direction from edge `b` to edge `a` at the substep's start.
+    pub normal: Vec3,
+}
+
+/// A candidate contact.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Contact {
+    Pair([u32; 2]),
+    /// Vertex, then the triangle's corners.
+    VertexTriangle([u32; 4]),
+    /// Edge `a` (two particles), then edge `b`; `crossing` once detected.
+    EdgeEdge {
+        v: [u32; 4],
+        crossing: Option<Crossing>,
+    },
+}
+
+impl Contact {
+    pub fn particles(&self) -> &[u32] {
+        match self {
+            Contact::Pair(v) => v,
+            Contact::VertexTriangle(v) | Contact::EdgeEdge { v, .. } => v,
+        }
+    }
+
+    /// Finds, once per substep, whether an edge pair crossed.
+    pub fn detect_crossing(&mut self, x: &[Vec3], x_prev: &[Vec3]) {
+        if let Contact::EdgeEdge { v, crossing } = self {
+            *crossing = edge_crossing(*v, x, x_prev);
+        }
+    }
+
+    /// The corrections of the contact's particles, if it acts.
+    pub fn correction(
+        &self,
+        x: &[Vec3],
+        x_prev: &[Vec3],
+        inv_mass: &[f32],
+        s: &SelfCollision,
+    ) -> Option<[Vec3; 4]> {
+        match *self {
+            Contact::Pair(v) => pair_correction(v, x, x_prev, inv_mass, s),
+            Contact::VertexTriangle(v) => vertex_triangle_correction(v, x, x_prev, inv_mass, s),
+            Contact::EdgeEdge { v, crossing } => {
+                edge_edge_correction(v, crossing, x, x_prev, inv_mass, s)
+            }
+        }
+    }
+}
+
+/// Share of a tangential slide `slide` that friction removes, given the
+/// normal correction `depth` (Macklin et al. 2014, static then kinetic).
+fn friction_share(slide: f32, depth: f32, f: &Friction) -> f32 {
+    if slide < f.static_coefficient * depth {
+        1.0
+    } else if slide > 0.0 {
+        (f.kinetic_coefficient * depth / slide).min(1.0)
+    } else {
+        0.0
+    }
+}
+
+/// The tangential part of `u` removed by friction.
+fn friction_removal(u: Vec3, normal: Vec3, depth: f32, f: &Friction) -> Vec3 {
+    let tangential = u - normal * u.dot(normal);
+    tangential * friction_share(tangential.length(), depth, f)
+}
+
+/// Corrections of a particle pair closer than the thickness.
+fn pair_correction(
+    v: [u32; 2],
+    x: &[Vec3],
+    x_prev: &[Vec3],
+    inv_mass: &[f32],
+    s: &SelfCollision,
+) -> Option<[Vec3; 4]> {
+    let [i, j] = v.map(|k| k as usize);
+    let diff = x[i] - x[j];
+    let dist = diff.length();
+    let w = inv_mass[i] + inv_mass[j];
+    if dist >= s.thickness || dist == 0.0 || w == 0.0 {
+        return None;
+    }
+    let normal = diff / dist;
+    let depth = s.thickness - dist;
+    let slip = friction_removal(
+        (x[i] - x_prev[i]) - (x[j] - x_prev[j]),
+        normal,
+        depth,
+        &s.friction,
+    );
+    let g = (normal * depth - slip) / w;
+    Some([g * inv_mass[i], -g * inv_mass[j], Vec3::ZERO, Vec3::ZERO])
+}
+
+/// Corrections of a vertex closer to a triangle than the thickness, or that
+/// crossed it during the substep (kept on the side it came from).
+fn vertex_triangle_correction(
+    v: [u32; 4],
+    x: &[Vec3],
+    x_prev: &[Vec3],
+    inv_mass: &[f32],
+    s: &SelfCollision,
+) -> Option<[Vec3; 4]> {
+    let [p, a, b, c] = v.map(|k| x[k as usize]);
+    let [p0, a0, b0, c0] = v.map(|k| x_prev[k as usize]);
+    let normal = (b - a).cross(c - a).try_normalize()?;
+    let start_height = (b0 - a0).cross(c0 - a0).dot(p0 - a0);
+    let side = if start_height != 0.0 {
+        start_height.signum()
+    } else {
+        normal.dot(p - a).signum()
+    };
+    let height = side * normal.dot(p - a);
+    if height >= s.thickness {
+        return None;
+    }
+    let beta = if height < 0.0 {
+        let sweep = |k: u32| Sweep {
+            start: x_prev[k as usize],
+            end: x[k as usize],
+        };
+        ccd::vertex_triangle(sweep(v[0]), sweep(v[1]), sweep(v[2]), sweep(v[3]))?.barycentric
+    } else {
+        ccd::projection_inside(p, a, b, c)?
+    };
+    // Weights of the vertex (+) and of the triangle's contact point (-).
+    let weights = [1.0, -beta[0], -beta[1], -beta[2]];
+    separate(v, weights, side * normal, height, x, x_prev, inv_mass, s)
+}
+
+/// Where the edges `v[0] v[1]` and `v[2] v[3]` crossed during the substep.
+fn edge_crossing(v: [u32; 4], x: &[Vec3], x_prev: &[Vec3]) -> Option<Crossing> {
+    let sweep = |k: u32| Sweep {
+        start: x_prev[k as usize],
+        end: x[k as usize],
+    };
+    let hit = ccd::edge_edge(sweep(v[0]), sweep(v[1]), sweep(v[2]), sweep(v[3]))?;
+    let [a0, a1, b0, b1] = v.map(|k| x_prev[k as usize]);
+    let before = a0.lerp(a1, hit.s) - b0.lerp(b1, hit.u);
+    let normal = before
+        .try_normalize()
+        .or_else(|| (a1 - a0).cross(b1 - b0).try_normalize())?;
+    Some(Crossing {
+        s: hit.s,
+        u: hit.u,
+        normal,
+    })
+}
+
+/// Corrections of two edges closer than the thickness, or that crossed
+/// during the substep.
+fn edge_edge_correction(
+    v: [u32; 4],
+    crossing: Option<Crossing>,
+    x: &[Vec3],
+    x_prev: &[Vec3],
+    inv_mass: &[f32],
+    s: &SelfCollision,
+) -> Option<[Vec3; 4]> {
+    let [a0, a1, b0, b1] = v.map(|k| x[k as usize]);
+    let (sa, sb, normal) = match crossing {
+        Some(c) => (c.s, c.u, c.normal),
+        None => {
+            let (sa, sb) = ccd::segment_closest_params(a0, a1, b0, b1);
+            let diff = a0.lerp(a1, sa) - b0.lerp(b1, sb);
+            if diff.length_squared() >= s.thickness * s.thickness {
+                return None;
+            }
+            (sa, sb, diff.try_normalize()?)
+        }
+    };
+    let height = normal.dot(a0.lerp(a1, sa) - b0.lerp(b1, sb));
+    if height >= s.thickness {
+        return None;
+    }
+    let weights = [1.0 - sa, sa, sb - 1.0, -sb];
+    separate(v, weights, normal, height, x, x_prev, inv_mass, s)
+}
+
+/// Moves the contact points `sum_k weights[k] x[v[k]]` apart along `normal`
+/// until their separation `height` reaches the thickness, with friction on
+/// their relative motion; each particle moves in proportion to its inverse
+/// mass and weight, so the total momentum is kept.
+#[allow(clippy::too_many_arguments)]
+fn separate(
+    v: [u32; 4],
+    weights: [f32; 4],
+    normal: Vec3,
+    height: f32,
+    x: &[Vec3],
+    x_prev: &[Vec3],
+    inv_mass: &[f32],
+    s: &SelfCollision,
+) -> Option<[Vec3; 4]> {
+    let w = v.map(|k| inv_mass[k as usize]);
+    let generalized: f32 = (0..4).map(|k| weights[k] * weights[k] * w[k]).sum();
+    if generalized == 0.0 {
+        return None;
+    }
+    let depth = s.thickness - height;
+    let relative: Vec3 = (0..4)
+        .map(|k| (x[v[k] as usize] - x_prev[v[k] as usize]) * weights[k])
+        .sum();
+    let g = (normal * depth - friction_removal(relative, normal, depth, &s.friction)) / generalized;
+    Some([0, 1, 2, 3].map(|k| g * (weights[k] * w[k])))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `sum m_k dx_k` of a contact's corrections.
+    fn momentum_change(v: &[u32], delta: [Vec3; 4], inv_mass: &[f32]) -> Vec3 {
+        v.iter()
+            .zip(delta)
+            .map(|(&k, d)| d / inv_mass[k as usize])
+            .sum()
+    }
+
+    #[test]
+    fn pair_contact_keeps_momentum_and_separates() {
+        let x = [Vec3::ZERO, Vec3::new(0.002, 0.001, 0.0)];
+        let x_prev = [Vec3::new(0.0, 0.01, 0.0), Vec3::new(0.005, 0.0, 0.0)];
+        let inv_mass = [1.0, 3.0];
+        let s = SelfCollision::default();
+        let d = pair_correction([0, 1], &x, &x_prev, &inv_mass, &s).expect("touching");
+        assert!(momentum_change(&[0, 1], d, &inv_mass).length() < 1e-6);
+        let gap = (x[0] + d[0]).distance(x[1] + d[1]);
+        assert!(gap >= s.thickness - 1e-3, "gap {gap}");
+    }
+
+    #[test]
+    fn vertex_triangle_contact_keeps_momentum_and_the_side() {
+        let tri = [
+            Vec3::ZERO,
+            Vec3::new(0.1, 0.0, 0.0),
+            Vec3::new(0.0, 0.0, 0.1),
+        ];
+        // The vertex came from above and ended below the triangle.
+        let x = [
+            Vec3::new(0.02, -0.01, 0.03),
+            tri[0],
+            tri[1],
+            tri[2] + Vec3::Y * 0.001,
+        ];
+        let x_prev = [Vec3::new(0.02, 0.01, 0.03), tri[0], tri[1], tri[2]];
+        let inv_mass = [1.0, 2.0, 0.5, 1.0];
+        let s = SelfCollision::default();
+        let v = [0, 1, 2, 3];
+        let d = vertex_triangle_correction(v, &x, &x_prev, &inv_mass, &s).expect("crossed");
+        assert!(momentum_change(&v, d, &inv_mass).length() < 1e-6);
+        let moved: Vec<Vec3> = x.iter().zip(d).map(|(x, d)| *x + d).collect();
+        let normal = (moved[2] - moved[1]).cross(moved[3] - moved[1]).normalize();
+        let side = normal.dot(moved[0] - moved[1]) * normal.dot(x_prev[0] - x_prev[1]).signum();
+        assert!(side > 0.9 * s.thickness, "height {side}");
+    }
+
+    #[test]
+    fn crossed_edges_are_pulled_back_to_their_side_keeping_momentum() {
+        // Edge a along x at y = 0.01 drops through edge b along z at y = 0.
+        let x_prev = [
+            Vec3::new(-0.1, 0.01, 0.0),
+            Vec3::new(0.1, 0.01, 0.0),
+            Vec3::new(0.02, 0.0, -0.1),
+            Vec3::new(0.02, 0.0, 0.1),
+        ];
+        let mut x = x_prev;
+        x[0].y = -0.01;
+        x[1].y = -0.01;
+        let inv_mass = [1.0, 2.0, 0.5, 1.0];
+        let s = SelfCollision::default();
+        let v = [0, 1, 2, 3];
+        let mut contact = Contact::EdgeEdge { v, crossing: None };
+        contact.detect_crossing(&x, &x_prev);
+        let d = contact
+            .correction(&x, &x_prev, &inv_mass, &s)
+            .expect("crossed");
+        assert!(momentum_change(&v, d, &inv_mass).length() < 1e-6);
+        let moved: Vec<Vec3> = x.iter().zip(d).map(|(x, d)| *x + d).collect();
+        let (sa, sb) = ccd::segment_closest_params(moved[0], moved[1], moved[2], moved[3]);
+        let gap = moved[0].lerp(moved[1], sa) - moved[2].lerp(moved[3], sb);
+        assert!(gap.y > 0.9 * s.thickness, "gap {gap}");
+    }
+
+    #[test]
+    fn near_edges_are_pushed_to_the_thickness() {
+        let x = [
+            Vec3::new(-0.1, 0.002, 0.0),
+            Vec3::new(0.1, 0.002, 0.0),
+            Vec3::new(0.0, 0.0, -0.1),
+            Vec3::new(0.0, 0.0, 0.1),
+        ];
+        let inv_mass = [1.0; 4];
+        let s = SelfCollision::default();
+        let mut contact = Contact::EdgeEdge {
+            v: [0, 1, 2, 3],
+            crossing: None,
+        };
+        contact.detect_crossing(&x, &x);
+        let d = contact.correction(&x, &x, &inv_mass, &s).expect("near");
+        let gap = (x[0] + d[0]).y - (x[2] + d[2]).y;
+        assert!((gap - s.thickness).abs() < 1e-5, "gap {gap}");
+        let far = [x[0] + Vec3::Y * 0.01, x[1] + Vec3::Y * 0.01, x[2], x[3]];
+        assert_eq!(contact.correction(&far, &far, &inv_mass, &s), None);
+    }
+}

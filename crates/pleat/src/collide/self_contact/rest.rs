@@ -1,0 +1,150 @@
+//! The rest mesh as seen by self-contacts: which particle pairs, vertex-triangle
+//! pairs and edge pairs never collide because they lie close together in the
+//! rest mesh (a cloth's own neighbours touch all the time; they are held
+//! apart by its stretch and bending constraints, not by contacts).
+//!
+//! - particle pairs that share an edge or lie closer at rest than the thickness;
+//! - vertex-triangle and edge-edge pairs with two corners closer at rest than
+//!   [`TRIANGLE_EXCLUSION`] times (thickness + the cloth's longest rest edge):
+//!   sharp folds bring them near at odd angles, and the particle pairs handle them.
+
+use crate::model::Model;
+use glam::Vec3;
+
+/// Vertex-triangle and edge-edge pairs closer at rest than this many
+/// (thickness + longest edge) never collide.
+const TRIANGLE_EXCLUSION: f32 = 2.0;
+
+#[derive(Clone, Debug, Default)]
+pub(super) struct RestNeighbourhood {
+    /// Cloth index of each particle.
+    pub cloth: Vec<u32>,
+    pub rest: Vec<Vec3>,
+    /// Sorted one-ring of each particle (CSR).
+    ring_start: Vec<u32>,
+    ring: Vec<u32>,
+    pub triangles: Vec<[u32; 3]>,
+    /// Per cloth: mean rest edge length.
+    pub mean_edge: Vec<f32>,
+    /// Per cloth: rest distance below which two corners exclude a pair.
+    triangle_exclusion: Vec<f32>,
+    thickness: f32,
+}
+
+impl RestNeighbourhood {
+    pub fn new(model: &Model, thickness: f32) -> Self {
+        let n = model.particle_count();
+        let mut cloth = vec![0; n];
+        let mut triangle_exclusion = Vec::new();
+        let mut mean_edge = Vec::new();
+        for (k, part) in model.cloths.iter().enumerate() {
+            cloth[part.particles()].fill(k as u32);
+            let lengths = model
+                .edges
+                .iter()
+                .filter(|e| part.particles().contains(&(e.v[0] as usize)))
+                .map(|e| e.rest_length);
+            let (count, sum, longest) =
+                lengths.fold((0, 0.0, 0.0f32), |(c, s, l), x| (c + 1, s + x, l.max(x)));
+            mean_edge.push(if count > 0 {
+                sum / count as f32
+            } else {
+                thickness
+            });
+            triangle_exclusion.push(TRIANGLE_EXCLUSION * (thickness + longest));
+        }
+        let edges: Vec<[u32; 2]> = model.edges.iter().map(|e| e.v).collect();
+        let (ring_start, ring) = csr(n, edges.iter().flat_map(|&[a, b]| [(a, b), (b, a)]));
+        RestNeighbourhood {
+            cloth,
+            rest: model.rest.clone(),
+            ring_start,
+            ring,
+            triangles: model.triangles.clone(),
+            mean_edge,
+            triangle_exclusion,
+            thickness,
+        }
+    }
+
+    fn rest_closer_than(&self, i: u32, j: u32, r: f32) -> bool {
+        self.cloth[i as usize] == self.cloth[j as usize]
+            && self.rest[i as usize].distance_squared(self.rest[j as usize]) < r * r
+    }
+
+    /// Particles that never form a particle-particle contact.
+    pub fn pair_excluded(&self, i: u32, j: u32) -> bool {
+        let ring = &self.ring
+            [self.ring_start[i as usize] as usize..self.ring_start[i as usize + 1] as usize];
+        self.rest_closer_than(i, j, self.thickness) || ring.binary_search(&j).is_ok()
+    }
+
+    /// Whether corners `i` and `j` keep their triangles and edges apart.
+    pub fn corner_excludes(&self, i: u32, j: u32) -> bool {
+        i == j
+            || self.rest_closer_than(
+                i,
+                j,
+                self.triangle_exclusion[self.cloth[i as usize] as usize],
+            )
+    }
+
+    /// Whether vertex `p` never meets triangle `t`.
+    pub fn vertex_triangle_excluded(&self, p: u32, t: [u32; 3]) -> bool {
+        t.iter().any(|&k| self.corner_excludes(p, k))
+    }
+
+    /// Whether edges `e` and `f` never meet.
+    pub fn edge_edge_excluded(&self, e: [u32; 2], f: [u32; 2]) -> bool {
+        e.iter()
+            .any(|&a| f.iter().any(|&b| self.corner_excludes(a, b)))
+    }
+}
+
+/// Compressed rows from `(row, value)` items, each row sorted.
+pub(super) fn csr<T: Copy + Ord + Default>(
+    rows: usize,
+    items: impl Iterator<Item = (u32, T)> + Clone,
+) -> (Vec<u32>, Vec<T>) {
+    let mut start = vec![0u32; rows + 1];
+    for (r, _) in items.clone() {
+        start[r as usize + 1] += 1;
+    }
+    for k in 1..=rows {
+        start[k] += start[k - 1];
+    }
+    let mut cursor = start.clone();
+    let mut values = vec![T::default(); start[rows] as usize];
+    for (r, v) in items {
+        values[cursor[r as usize] as usize] = v;
+        cursor[r as usize] += 1;
+    }
+    for r in 0..rows {
+        values[start[r] as usize..start[r + 1] as usize].sort_unstable();
+    }
+    (start, values)
+}
+
+/// Row `r` of a CSR table.
+pub(super) fn row<'a, T>(start: &[u32], values: &'a [T], r: usize) -> &'a [T] {
+    &values[start[r] as usize..start[r + 1] as usize]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rest_neighbours_are_excluded() {
+        let mesh = crate::mesh::GridSpec::new(4, 4, [0.3, 0.3]).build();
+        let mut model = Model::default();
+        model.add_cloth("c", mesh, Default::default(), &[], false);
+        let rest = RestNeighbourhood::new(&model, 0.01);
+        assert!(rest.pair_excluded(0, 1), "edge");
+        assert!(!rest.pair_excluded(0, 15), "far");
+        assert!(rest.corner_excludes(0, 5));
+        assert!(!rest.corner_excludes(0, 15));
+        assert!(rest.edge_edge_excluded([0, 1], [4, 5]));
+        assert!(!rest.edge_edge_excluded([0, 1], [14, 15]));
+    }
+}
