@@ -450,3 +450,130 @@ fn mesh_collider_scale_and_unknown_field() {
         "unknown field `cell_size`",
     );
 }
+
+/// `GOOD` with a torus knot collider of radius 0.3 and the given extra fields.
+fn with_torus_knot(fields: &str) -> String {
+    with_collider_shape(&format!(
+        "{{ \"torus_knot\": {{ \"center\": [0, 0, 0], \"radius\": 0.3, {fields} }} }}"
+    ))
+}
+
+#[test]
+fn generated_colliders_are_accepted() {
+    for json in [
+        with_torus_knot("\"tube\": 0.05"),
+        with_torus_knot("\"tube\": 0.05, \"p\": 3, \"q\": 5, \"segments\": 200, \"sides\": 8, \"rotation_degrees\": [90, 0, 0], \"sdf_cell_size\": 0.05"),
+        with_collider_shape("{ \"icosphere\": { \"center\": [0, 1, 0], \"radius\": 0.3 } }"),
+        with_collider_shape("{ \"icosphere\": { \"center\": [0, 1, 0], \"radius\": 0.3, \"subdivisions\": 2, \"sdf_cell_size\": 0.05 } }"),
+    ] {
+        let scene = Scene::parse(&json, "good.json").unwrap();
+        scene.model(Path::new("."), "good.json").unwrap();
+    }
+}
+
+#[test]
+fn torus_knot_tube_that_intersects_itself() {
+    // The strands of a (2, 3) knot of radius 0.3 pass about 0.25 apart.
+    assert_error(
+        &with_torus_knot("\"tube\": 0.2"),
+        "colliders[0].shape.torus_knot.tube",
+        "must be less than 0.12",
+    );
+    assert_error(
+        &with_torus_knot("\"tube\": 0.2"),
+        "colliders[0].shape.torus_knot.tube",
+        "a thicker tube intersects itself",
+    );
+}
+
+#[test]
+fn torus_knot_mesh_too_coarse_for_its_tube() {
+    // Thin enough for the smooth tube, but 8 rings per winding cut corners
+    // through the neighbouring strands: refused when the mesh is built.
+    let json = with_torus_knot("\"tube\": 0.0195, \"p\": 16, \"q\": 15, \"segments\": 128");
+    assert_error(
+        &json,
+        "colliders[0].shape.torus_knot.tube",
+        "the tube's mesh intersects itself",
+    );
+}
+
+#[test]
+fn torus_knot_windings_must_be_coprime() {
+    assert_error(
+        &with_torus_knot("\"tube\": 0.05, \"p\": 2, \"q\": 4"),
+        "colliders[0].shape.torus_knot.q",
+        "share the factor 2",
+    );
+    assert_error(
+        &with_torus_knot("\"tube\": 0.05, \"p\": 0"),
+        "colliders[0].shape.torus_knot.p",
+        "must be between 1 and 16, got 0",
+    );
+}
+
+#[test]
+fn torus_knot_counts() {
+    assert_error(
+        &with_torus_knot("\"tube\": 0.05, \"segments\": 0"),
+        "colliders[0].shape.torus_knot.segments",
+        "must be at least 24 (8 per winding) for p = 2 and q = 3, got 0",
+    );
+    assert_error(
+        &with_torus_knot("\"tube\": 0.05, \"sides\": 2"),
+        "colliders[0].shape.torus_knot.sides",
+        "must be between 3 and 1024, got 2",
+    );
+    assert_error(
+        &with_torus_knot("\"tube\": 0.05, \"segments\": -3"),
+        "colliders[0].shape.torus_knot.segments",
+        "invalid value: integer `-3`",
+    );
+    assert_error(
+        &with_torus_knot("\"tube\": 0.05, \"segments\": 100000, \"sides\": 1000"),
+        "colliders[0].shape.torus_knot.segments",
+        "more than 4194304",
+    );
+}
+
+#[test]
+fn torus_knot_sizes_and_fields() {
+    let message = error_of(&with_torus_knot("\"tube\": 0").replace("0.3", "-1"));
+    assert!(
+        message.contains("colliders[0].shape.torus_knot.radius: must be a positive number, got -1")
+            && message
+                .contains("colliders[0].shape.torus_knot.tube: must be a positive number, got 0"),
+        "{message}"
+    );
+    assert_error(
+        &with_torus_knot("\"tube\": 0.05, \"sdf_cell_size\": 0"),
+        "colliders[0].shape.torus_knot.sdf_cell_size",
+        "must be a positive number, got 0",
+    );
+    assert_error(
+        &with_torus_knot("\"tube\": 0.05, \"cell_size\": 0.01"),
+        "colliders[0].shape.torus_knot",
+        "unknown field `cell_size`",
+    );
+    assert_error(
+        &with_collider_shape("{ \"torus_knot\": { \"center\": [0, 0, 0], \"radius\": 0.3 } }"),
+        "colliders[0].shape.torus_knot",
+        "missing field `tube`",
+    );
+}
+
+#[test]
+fn icosphere_parameters() {
+    assert_error(
+        &with_collider_shape(
+            "{ \"icosphere\": { \"center\": [0, 0, 0], \"radius\": 0.3, \"subdivisions\": 9 } }",
+        ),
+        "colliders[0].shape.icosphere.subdivisions",
+        "must be at most 7, got 9",
+    );
+    assert_error(
+        &with_collider_shape("{ \"icosphere\": { \"center\": [0, 0, 0], \"radius\": 0 } }"),
+        "colliders[0].shape.icosphere.radius",
+        "must be a positive number, got 0",
+    );
+}

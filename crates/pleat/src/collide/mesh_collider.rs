@@ -15,6 +15,14 @@
 //! solid angle (`O(n)`) for checks. Points outside the mesh's bounding box
 //! are outside without a winding number: exact for closed meshes, and the
 //! convention for open ones.
+//!
+//! Swept queries keep fast particles from tunnelling through thin meshes:
+//! [`MeshCollider::first_hit`] finds where the segment from a particle's
+//! previous position to its new one first crosses a triangle (slab tests on
+//! the boxes, nearer child first, boxes beyond the best hit skipped), and
+//! [`MeshCollider::swept_signed_distance_within`] turns that crossing into
+//! the distance and normal a contact pushes along, back to the side the
+//! particle came from.
 
 use crate::mesh::Mesh;
 use glam::Vec3;
@@ -54,6 +62,25 @@ impl Aabb {
         self.min.cmple(p).all() && p.cmple(self.max).all()
     }
 
+    /// Where the segment `from + t * delta`, `t` in `[0, limit]`, enters the
+    /// box (0 if it starts inside), by slabs; `None` if it misses.
+    fn segment_entry(&self, from: Vec3, delta: Vec3, limit: f32) -> Option<f32> {
+        let (mut enter, mut exit) = (0.0f32, limit);
+        for axis in 0..3 {
+            let (lo, hi, o, d) = (self.min[axis], self.max[axis], from[axis], delta[axis]);
+            if d == 0.0 {
+                if o < lo || o > hi {
+                    return None;
+                }
+                continue;
+            }
+            let (t1, t2) = ((lo - o) / d, (hi - o) / d);
+            enter = enter.max(t1.min(t2));
+            exit = exit.min(t1.max(t2));
+        }
+        (enter <= exit).then_some(enter)
+    }
+
     /// Squared distance from `p` to the box (zero inside).
     fn distance_squared(&self, p: Vec3) -> f32 {
         (p - p.clamp(self.min, self.max)).length_squared()
@@ -75,6 +102,21 @@ struct Node {
     area_normal: Vec3,
     /// Largest distance from `centre` to the node's box.
     radius: f32,
+}
+
+/// Where a segment first crosses a mesh.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SegmentHit {
+    /// Fraction of the way from the segment's start, in `[0, 1]`.
+    pub t: f32,
+    pub point: Vec3,
+    /// Index into the collider's triangles.
+    pub triangle: usize,
+    /// The triangle's unit normal turned towards the segment's start: the
+    /// side the segment came from.
+    pub normal: Vec3,
+    /// Whether the segment came from the triangle's front (outward) side.
+    pub front: bool,
 }
 
 impl Node {
@@ -305,6 +347,72 @@ impl MeshCollider {
             .filter(|&(d, _)| d < reach)
     }
 
+    /// The first triangle the segment `from`-`to` crosses, nearest `from`.
+    /// A crossing goes from strictly one side of the triangle's plane to the
+    /// other side or onto it; a segment that starts on a triangle's plane does
+    /// not cross that triangle. Shared edges are hit from both triangles.
+    pub fn first_hit(&self, from: Vec3, to: Vec3) -> Option<SegmentHit> {
+        let delta = to - from;
+        let mut best: Option<SegmentHit> = None;
+        let mut stack = Stack::with_root(!self.nodes.is_empty());
+        while let Some(index) = stack.pop() {
+            let node = &self.nodes[index as usize];
+            let limit = best.map_or(1.0, |b| b.t);
+            if node.bounds.segment_entry(from, delta, limit).is_none() {
+                continue;
+            }
+            if node.is_leaf() {
+                for triangle in node.items() {
+                    let [a, b, c] = self.corners(&self.triangles[triangle]);
+                    if let Some(hit) = segment_triangle(from, to, a, b, c) {
+                        if best.is_none_or(|b| hit.t < b.t) {
+                            best = Some(SegmentHit { triangle, ..hit });
+                        }
+                    }
+                }
+            } else {
+                let [l, r] = node.children();
+                let entry = |i: u32| {
+                    self.nodes[i as usize]
+                        .bounds
+                        .segment_entry(from, delta, limit)
+                };
+                match (entry(l), entry(r)) {
+                    (Some(tl), Some(tr)) => {
+                        let (near, far) = if tl <= tr { (l, r) } else { (r, l) };
+                        stack.push(far);
+                        stack.push(near);
+                    }
+                    (Some(_), None) => stack.push(l),
+                    (None, Some(_)) => stack.push(r),
+                    (None, None) => {}
+                }
+            }
+        }
+        best
+    }
+
+    /// [`Self::signed_distance_within`] at `to` for a particle that moved
+    /// there from `from`, unless the move crossed the surface: then the
+    /// distance of `to` from the crossed triangle's plane along its normal
+    /// turned back towards `from` (negative: `to` is behind it), so that a
+    /// contact pushes the particle back out on the side it came from, however
+    /// thin the mesh. A crossing out of the back of a triangle from inside a
+    /// closed mesh is the particle leaving, and is not a hit.
+    pub fn swept_signed_distance_within(
+        &self,
+        from: Vec3,
+        to: Vec3,
+        reach: f32,
+    ) -> Option<(f32, Vec3)> {
+        match self.first_hit(from, to) {
+            Some(hit) if hit.front || !self.contains(from) => {
+                Some(((to - hit.point).dot(hit.normal), hit.normal))
+            }
+            _ => self.signed_distance_within(to, reach),
+        }
+    }
+
     /// The signed distance and normal at `p` from its closest point.
     fn signed(&self, p: Vec3, closest: Closest, inside: bool) -> (f32, Vec3) {
         let distance = closest.distance_squared.sqrt();
@@ -344,6 +452,39 @@ impl Stack {
         self.len = self.len.checked_sub(1)?;
         Some(self.items[self.len])
     }
+}
+
+/// Where the segment `from`-`to` crosses triangle `abc`, or `None`: signed
+/// distances of the ends from the triangle's plane, then the crossing point's
+/// barycentric coordinates (inclusive, so a segment through a shared edge
+/// hits both triangles). The hit's `triangle` is 0. `O(1)`; the brute-force
+/// reference for [`MeshCollider::first_hit`].
+pub fn segment_triangle(from: Vec3, to: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Option<SegmentHit> {
+    let normal = (b - a).cross(c - a);
+    let (d0, d1) = ((from - a).dot(normal), (to - a).dot(normal));
+    let crosses = (d0 > 0.0 && d1 <= 0.0) || (d0 < 0.0 && d1 >= 0.0);
+    if !crosses {
+        return None;
+    }
+    let t = d0 / (d0 - d1);
+    let point = from + (to - from) * t;
+    // Barycentric coordinates of the crossing from the sub-triangle areas.
+    let area = normal.length_squared();
+    let u = (c - b).cross(point - b).dot(normal) / area;
+    let v = (a - c).cross(point - c).dot(normal) / area;
+    let w = 1.0 - u - v;
+    const EDGE: f32 = -1e-6;
+    if u < EDGE || v < EDGE || w < EDGE || !t.is_finite() {
+        return None;
+    }
+    let unit = normal.normalize();
+    Some(SegmentHit {
+        t: t.clamp(0.0, 1.0),
+        point,
+        triangle: 0,
+        normal: if d0 > 0.0 { unit } else { -unit },
+        front: d0 > 0.0,
+    })
 }
 
 /// The winding number at `p` summed over every triangle: `O(n)`, for checks.

@@ -70,6 +70,24 @@ impl Shape {
             _ => Some(self.signed_distance(p)).filter(|&(d, _)| d < reach),
         }
     }
+
+    /// [`Self::signed_distance_within`] at `to` for a particle that moved
+    /// there from `from` (both in the shape's frame). Mesh colliders also
+    /// catch a move that crossed their surface, however thin the mesh, and
+    /// push back to the side it came from
+    /// ([`MeshCollider::swept_signed_distance_within`]); the other shapes
+    /// answer at `to` alone.
+    pub fn swept_signed_distance_within(
+        &self,
+        from: Vec3,
+        to: Vec3,
+        reach: f32,
+    ) -> Option<(f32, Vec3)> {
+        match self {
+            Shape::Mesh(mesh) => mesh.swept_signed_distance_within(from, to, reach),
+            _ => self.signed_distance_within(to, reach),
+        }
+    }
 }
 
 fn sphere(d: Vec3, radius: f32) -> (f32, Vec3) {

@@ -2,10 +2,12 @@
 //!
 //! A [`Mesh`] is positions and counter-clockwise triangles; [`Topology`]
 //! derives the unique edges, the pairs of adjacent triangles (for bending and
-//! hinges) and the boundary. Builders make grids ([`grid`]) and read OBJ
-//! files ([`obj`]); [`lumped_masses`] turns a surface density into particle
-//! masses.
+//! hinges) and the boundary. Builders make grids ([`grid`]), read OBJ
+//! files ([`obj`]) and generate closed collider meshes such as a torus knot
+//! or an icosphere ([`generate`]); [`lumped_masses`] turns a surface
+//! density into particle masses.
 
+pub mod generate;
 pub mod grid;
 pub mod obj;
 mod topology;

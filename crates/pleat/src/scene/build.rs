@@ -7,6 +7,7 @@ use super::{
 };
 use crate::collide::{Collider, MeshCollider, Motion, SdfGrid, Shape};
 use crate::mesh::{obj::load_obj, GridSpec, Mesh};
+use crate::metrics::intersections::count_self_intersections;
 use crate::model::{Model, Pin};
 use crate::origami::{builtin, load_pattern, PatternError, Sheet, SheetOptions};
 use crate::simulation::Simulation;
@@ -286,6 +287,26 @@ fn collider(spec: &ColliderSpec, base_dir: &Path) -> Result<Collider, ShapeError
                 .map_err(|reason| ("sdf.cell_size".to_string(), reason))?;
             (Shape::Sdf(Arc::new(grid)), mesh_centre(&mesh))
         }
+        ShapeSpec::TorusKnot(k) => {
+            let mesh = k.knot().mesh();
+            let crossings = count_self_intersections(&mesh.positions, &mesh.triangles);
+            if crossings > 0 {
+                return Err((
+                    "torus_knot.tube".to_string(),
+                    format!(
+                        "the tube's mesh intersects itself ({crossings} pairs of triangles): use a thinner tube or more segments"
+                    ),
+                ));
+            }
+            let shape = generated_shape(&mesh, k.sdf_cell_size)
+                .map_err(|reason| ("torus_knot.sdf_cell_size".to_string(), reason))?;
+            (shape, k.center)
+        }
+        ShapeSpec::Icosphere(s) => {
+            let shape = generated_shape(&s.icosphere().mesh(), s.sdf_cell_size)
+                .map_err(|reason| ("icosphere.sdf_cell_size".to_string(), reason))?;
+            (shape, s.center)
+        }
     };
     Ok(Collider {
         shape,
@@ -307,6 +328,16 @@ fn placed_mesh(
         *p = *p * scale + translate;
     }
     Ok(MeshCollider::new(&mesh))
+}
+
+/// A generated mesh as a collider: its BVH, or a distance field baked from
+/// it with cells of `sdf_cell_size`.
+fn generated_shape(mesh: &Mesh, sdf_cell_size: Option<f32>) -> Result<Shape, String> {
+    let collider = MeshCollider::new(mesh);
+    Ok(match sdf_cell_size {
+        None => Shape::Mesh(Arc::new(collider)),
+        Some(cell) => Shape::Sdf(Arc::new(SdfGrid::bake(&collider, cell)?)),
+    })
 }
 
 /// The centre of a mesh's box: where its rotation turns by default.

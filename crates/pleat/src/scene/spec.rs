@@ -3,10 +3,11 @@
 use crate::collide::Friction;
 use crate::force::Wind;
 use crate::material::Material;
+use crate::mesh::generate::{Icosphere, TorusKnot};
 use crate::mesh::GridOrientation;
 use crate::origami::{FoldRamp, PaperStiffness};
 use crate::solver::SolverSettings;
-use glam::Vec3;
+use glam::{EulerRot, Quat, Vec3};
 use serde::{Deserialize, Serialize};
 
 /// A whole scene.
@@ -254,6 +255,10 @@ pub enum ShapeSpec {
     Mesh(MeshShapeSpec),
     /// A signed distance field baked from an OBJ file onto a grid.
     Sdf(SdfShapeSpec),
+    /// A tube around a (p, q) torus knot, generated as a triangle mesh.
+    TorusKnot(TorusKnotSpec),
+    /// A sphere generated as a subdivided icosahedron.
+    Icosphere(IcosphereSpec),
 }
 
 /// A mesh collider: `path` relative to the scene file's folder, each vertex
@@ -279,6 +284,100 @@ pub struct SdfShapeSpec {
     #[serde(default)]
     pub translate: Vec3,
     pub cell_size: f32,
+}
+
+/// A generated torus knot tube (see [`TorusKnot`]): its centre line winds
+/// `p` times around the axis (y, turned by `rotation_degrees`) and `q` times
+/// around the core of a torus of radii `radius` and `radius / 2`. Queried
+/// through a BVH like an OBJ mesh, or baked into a distance field when
+/// `sdf_cell_size` is given.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TorusKnotSpec {
+    pub center: Vec3,
+    pub radius: f32,
+    /// Radius of the tube; less than what makes it intersect itself.
+    pub tube: f32,
+    #[serde(default = "two")]
+    pub p: u32,
+    #[serde(default = "three")]
+    pub q: u32,
+    /// Rings of vertices along the knot.
+    #[serde(default = "knot_segments")]
+    pub segments: u32,
+    /// Vertices around each ring.
+    #[serde(default = "knot_sides")]
+    pub sides: u32,
+    /// Euler angles X, Y, Z in degrees.
+    #[serde(default)]
+    pub rotation_degrees: Vec3,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sdf_cell_size: Option<f32>,
+}
+
+impl TorusKnotSpec {
+    pub fn knot(&self) -> TorusKnot {
+        TorusKnot {
+            center: self.center,
+            rotation: euler_degrees(self.rotation_degrees),
+            radius: self.radius,
+            tube: self.tube,
+            p: self.p,
+            q: self.q,
+            segments: self.segments,
+            sides: self.sides,
+        }
+    }
+}
+
+/// A generated icosphere (see [`Icosphere`]), queried through a BVH or baked
+/// into a distance field when `sdf_cell_size` is given.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IcosphereSpec {
+    pub center: Vec3,
+    pub radius: f32,
+    /// Each splits every triangle in four: `20 * 4^subdivisions` triangles.
+    #[serde(default = "icosphere_subdivisions")]
+    pub subdivisions: u32,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sdf_cell_size: Option<f32>,
+}
+
+impl IcosphereSpec {
+    pub fn icosphere(&self) -> Icosphere {
+        Icosphere {
+            center: self.center,
+            radius: self.radius,
+            subdivisions: self.subdivisions,
+        }
+    }
+}
+
+/// The rotation of Euler angles X, Y, Z in degrees.
+pub fn euler_degrees(r: Vec3) -> Quat {
+    Quat::from_euler(
+        EulerRot::XYZ,
+        r.x.to_radians(),
+        r.y.to_radians(),
+        r.z.to_radians(),
+    )
+}
+
+fn two() -> u32 {
+    2
+}
+fn three() -> u32 {
+    3
+}
+fn knot_segments() -> u32 {
+    256
+}
+fn knot_sides() -> u32 {
+    16
+}
+fn icosphere_subdivisions() -> u32 {
+    4
 }
 
 fn up() -> Vec3 {

@@ -7,6 +7,7 @@ use super::{
 use crate::collide::SelfCollision;
 use crate::force::Wind;
 use crate::material::Material;
+use crate::mesh::generate::ParameterError;
 use crate::origami::{builtin, BUILTIN_NAMES};
 use crate::solver::SolverKind;
 use glam::Vec3;
@@ -288,6 +289,18 @@ impl Validator<'_> {
                 self.placed_file(&p, &s.path, s.scale, s.translate);
                 self.positive(&format!("{p}.cell_size"), s.cell_size);
             }
+            ShapeSpec::TorusKnot(k) => {
+                let p = format!("{path}.shape.torus_knot");
+                self.finite3(
+                    &format!("{p}.rotation_degrees"),
+                    k.rotation_degrees.to_array(),
+                );
+                self.generated(&p, k.knot().check(), k.sdf_cell_size);
+            }
+            ShapeSpec::Icosphere(s) => {
+                let p = format!("{path}.shape.icosphere");
+                self.generated(&p, s.icosphere().check(), s.sdf_cell_size);
+            }
         }
         self.non_negative(
             &format!("{path}.friction.static"),
@@ -308,6 +321,21 @@ impl Validator<'_> {
         );
         self.positive(&format!("{path}.scale"), scale);
         self.finite3(&format!("{path}.translate"), translate.to_array());
+    }
+
+    /// The parameter errors of a generated mesh, and its optional cell size.
+    fn generated(
+        &mut self,
+        path: &str,
+        check: Result<(), Vec<ParameterError>>,
+        sdf_cell_size: Option<f32>,
+    ) {
+        for (field, reason) in check.err().unwrap_or_default() {
+            self.check(false, &format!("{path}.{field}"), &reason);
+        }
+        if let Some(cell) = sdf_cell_size {
+            self.positive(&format!("{path}.sdf_cell_size"), cell);
+        }
     }
 
     fn self_collision(&mut self, s: &SelfCollision) {
