@@ -27,6 +27,8 @@ pub struct Report {
     pub contacts_per_frame: f64,
     /// Self-collision and cloth-cloth contacts that acted, per frame.
     pub self_contacts_per_frame: f64,
+    /// Candidate self-contacts the broad phase found, per frame.
+    pub self_contact_candidates_per_frame: f64,
     pub max_stretch: f32,
     pub mean_stretch: f32,
     pub nan: bool,
@@ -137,6 +139,8 @@ impl Report {
             stages_ms: StagesMs::from(&sim.stages, frames),
             contacts_per_frame: sim.stages.contacts as f64 / frames.max(1) as f64,
             self_contacts_per_frame: sim.stages.self_contacts as f64 / frames.max(1) as f64,
+            self_contact_candidates_per_frame: sim.stages.self_contact_candidates as f64
+                / frames.max(1) as f64,
             max_stretch: m.max_stretch,
             mean_stretch: m.mean_stretch,
             nan: m.nan,
@@ -180,8 +184,8 @@ impl Report {
     pub fn profile_text(&self) -> String {
         let s = &self.stages_ms;
         format!(
-            "profile (ms per frame): forces {:.3}, predict {:.3}, constraints {:.3}, collisions {:.3}, self-collision {:.3}; {:.1} contacts, {:.1} self-contacts per frame",
-            s.forces, s.predict, s.constraints, s.collisions, s.self_collision, self.contacts_per_frame, self.self_contacts_per_frame
+            "profile (ms per frame): forces {:.3}, predict {:.3}, constraints {:.3}, collisions {:.3}, self-collision {:.3}; per frame: {:.1} collider contacts, {:.1} self-contact candidates, {:.1} self-contacts acting",
+            s.forces, s.predict, s.constraints, s.collisions, s.self_collision, self.contacts_per_frame, self.self_contact_candidates_per_frame, self.self_contacts_per_frame
         )
     }
 }

@@ -106,6 +106,8 @@ pub struct StageTimes {
     pub self_collision: Duration,
     /// Self-contacts that acted, summed over substeps.
     pub self_contacts: u64,
+    /// Self-contact candidates from the broad phase, summed over substeps.
+    pub self_contact_candidates: u64,
 }
 
 impl StageTimes {

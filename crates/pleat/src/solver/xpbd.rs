@@ -120,6 +120,7 @@ impl Xpbd {
                 self_contacts.project(&mut p.x, &p.x_prev, &p.inv_mass)
             });
             stages.self_contacts += found.active as u64;
+            stages.self_contact_candidates += found.candidates as u64;
         }
         self.contacts.resolve(p, world, t, dt, stages);
         StageTimes::time(&mut stages.predict, || update_velocities(p, dt));
