@@ -354,3 +354,71 @@ fn results_do_not_depend_on_thread_count() {
         two.2.to_array().map(f32::to_bits)
     );
 }
+
+#[test]
+fn tablecloth_pulled_off_leaves_the_dishes_on_the_table() {
+    let scene = Scene::load(&scenes_dir().join("tablecloth_pull.json")).expect("shipped scene");
+    let mut sim = scene
+        .build(scenes_dir(), "tablecloth_pull")
+        .expect("builds");
+    let dishes: Vec<usize> = (0..sim.world.colliders.len())
+        .filter(|&i| sim.world.colliders[i].is_dynamic())
+        .collect();
+    let start: Vec<Vec3> = dishes.iter().map(|&i| body(&sim, i).position).collect();
+    for f in 0..scene.frames {
+        sim.step(scene.frame_dt());
+        if f % 10 == 9 {
+            let xs = sim.particles.x.iter().map(|x| x.x).fold(f32::MAX, f32::min);
+            println!(
+                "frame {}: cloth from x = {xs}, dishes {:?}",
+                f + 1,
+                dishes
+                    .iter()
+                    .map(|&i| body(&sim, i).position)
+                    .collect::<Vec<_>>()
+            );
+        }
+    }
+    let m = sim.metrics();
+    // The table top: 1.2 m x 0.8 m at y = 0.75.
+    let on_table = sim
+        .particles
+        .x
+        .iter()
+        .filter(|x| x.x.abs() < 0.6 && x.z.abs() < 0.4 && x.y > 0.74)
+        .count();
+    println!(
+        "tablecloth: {} particles left on the table top, penetrations {}, nan {}, max stretch {}",
+        on_table, m.collider_penetrations, m.nan, m.max_stretch
+    );
+    for (k, &i) in dishes.iter().enumerate() {
+        let b = body(&sim, i);
+        let lowest = b
+            .samples
+            .iter()
+            .map(|s| b.pose().transform_point3(s.local).y - s.radius)
+            .fold(f32::MAX, f32::min);
+        println!(
+            "dish {k}: from {} to {} (moved {} m), lowest point {lowest}, speed {}",
+            start[k],
+            b.position,
+            (b.position - start[k]).length(),
+            b.linear_velocity.length()
+        );
+        assert!(
+            b.position.x.abs() < 0.6 && b.position.z.abs() < 0.4,
+            "dish {k} is over the table: {}",
+            b.position
+        );
+        let slid = (b.position - start[k]).with_y(0.0).length();
+        assert!(slid < 0.05, "dish {k} stayed where it stood: slid {slid} m");
+        assert!(b.linear_velocity.length() < 0.05, "dish {k} is at rest");
+        assert!(
+            (lowest - 0.75).abs() < 0.01,
+            "dish {k} stands on the table top: lowest point at {lowest}"
+        );
+    }
+    assert!(!m.nan && !m.unstable);
+    assert_eq!(on_table, 0, "the cloth is off the table");
+    assert_eq!(m.collider_penetrations, 0);
+}
