@@ -245,7 +245,8 @@ fn motion(spec: &MotionSpec, default_pivot: Vec3) -> Motion {
 type ColliderError = (String, String);
 
 fn collider(spec: &ColliderSpec, base_dir: &Path) -> Result<Collider, ColliderError> {
-    // A distance field is weighed and sampled through the mesh it is baked from.
+    // Distance fields and generated shapes of a dynamic collider are weighed
+    // and sampled through their meshes.
     let mut baked_from = None;
     let (shape, centre) = match spec.shape.clone() {
         ShapeSpec::Plane { point, normal } => (
@@ -297,19 +298,26 @@ fn collider(spec: &ColliderSpec, base_dir: &Path) -> Result<Collider, ColliderEr
             let crossings = count_self_intersections(&mesh.positions, &mesh.triangles);
             if crossings > 0 {
                 return Err((
-                    "torus_knot.tube".to_string(),
+                    "shape.torus_knot.tube".to_string(),
                     format!(
                         "the tube's mesh intersects itself ({crossings} pairs of triangles): use a thinner tube or more segments"
                     ),
                 ));
             }
             let shape = generated_shape(&mesh, k.sdf_cell_size)
-                .map_err(|reason| ("torus_knot.sdf_cell_size".to_string(), reason))?;
+                .map_err(|reason| ("shape.torus_knot.sdf_cell_size".to_string(), reason))?;
+            if spec.body.is_some() {
+                baked_from = Some(MeshCollider::new(&mesh));
+            }
             (shape, k.center)
         }
         ShapeSpec::Icosphere(s) => {
-            let shape = generated_shape(&s.icosphere().mesh(), s.sdf_cell_size)
-                .map_err(|reason| ("icosphere.sdf_cell_size".to_string(), reason))?;
+            let mesh = s.icosphere().mesh();
+            let shape = generated_shape(&mesh, s.sdf_cell_size)
+                .map_err(|reason| ("shape.icosphere.sdf_cell_size".to_string(), reason))?;
+            if spec.body.is_some() {
+                baked_from = Some(MeshCollider::new(&mesh));
+            }
             (shape, s.center)
         }
     };
