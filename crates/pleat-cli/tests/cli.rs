@@ -83,7 +83,11 @@ fn default_run_writes_the_report_contract() {
 
 #[test]
 fn one_and_two_threads_give_identical_results() {
-    for scene in ["scenes/flag.json", "scenes/rotating_sphere.json"] {
+    for scene in [
+        "scenes/flag.json",
+        "scenes/rotating_sphere.json",
+        "scenes/tablecloth_pull.json",
+    ] {
         let runs: Vec<PathBuf> = [1, 2]
             .iter()
             .map(|t| {

@@ -48,8 +48,12 @@ impl Simulation {
         if let Some(ramp) = self.fold_ramp {
             self.set_fold_progress(ramp.at(self.frames_stepped + 1));
         }
-        self.solver
-            .step(&mut self.particles, &self.world, frame_dt, &mut self.stages);
+        self.solver.step(
+            &mut self.particles,
+            &mut self.world,
+            frame_dt,
+            &mut self.stages,
+        );
         self.world.time += frame_dt;
         self.frames_stepped += 1;
         self.stability

@@ -67,7 +67,7 @@ fn instability_within(
     world: &World,
     particles: &Particles,
 ) -> Option<Instability> {
-    if particles.has_non_finite() {
+    if particles.has_non_finite() || !world.bodies_are_finite() {
         Some(Instability::NonFinite)
     } else if mechanical_energy(model, world, particles)
         > RUNAWAY_ENERGY * energy_scale(extent, model, world)
@@ -79,7 +79,7 @@ fn instability_within(
 }
 
 /// The energy a scene can plausibly hold (J): `M (|g| L + v^2 / 2)`, with `M`
-/// the dynamic mass, `L` the diagonal of the rest shape's bounding box and
+/// the dynamic mass (cloth and rigid bodies, which can hand theirs to the cloth), `L` the diagonal of the rest shape's bounding box and
 /// `v` the fastest the world moves (wind with its turbulence, scripted pins
 /// and colliders) plus one metre per second.
 pub fn energy_scale(extent: RestExtent, model: &Model, world: &World) -> f32 {
@@ -96,6 +96,7 @@ pub fn energy_scale(extent: RestExtent, model: &Model, world: &World) -> f32 {
         .map(|m| motion_speed(&m, centre, size))
         .fold(0.0, f32::max);
     let v = SPEED_FLOOR + wind + moving;
+    let mass = mass + world.body_mass();
     mass * (world.gravity.length() * size + 0.5 * v * v)
 }
 

@@ -23,3 +23,22 @@ impl Default for World {
         }
     }
 }
+
+impl World {
+    /// Whether every dynamic body's state is finite.
+    pub fn bodies_are_finite(&self) -> bool {
+        self.colliders
+            .iter()
+            .filter_map(|c| c.body.as_ref())
+            .all(|b| b.is_finite())
+    }
+
+    /// Total mass of the dynamic bodies (kg).
+    pub fn body_mass(&self) -> f32 {
+        self.colliders
+            .iter()
+            .filter_map(|c| c.body.as_ref())
+            .map(|b| b.mass)
+            .sum()
+    }
+}

@@ -577,3 +577,88 @@ fn icosphere_parameters() {
         "must be a positive number, got 0",
     );
 }
+
+/// GOOD with `body` (JSON) on its sphere collider.
+fn with_body(body: &str) -> String {
+    GOOD.replace(
+        "\"radius\": 0.5 } }",
+        &format!("\"radius\": 0.5 }} }}, \"body\": {body}"),
+    )
+}
+
+#[test]
+fn dynamic_body_is_accepted() {
+    let json = with_body("{ \"density\": 500, \"linear_velocity\": [1, 0, 0] }");
+    let scene = Scene::parse(&json, "good.json").unwrap();
+    let (_, world) = scene.model(Path::new("."), "good.json").unwrap();
+    let body = world.colliders[0].body.as_ref().unwrap();
+    assert!((body.mass - 500.0 * 4.0 / 3.0 * std::f32::consts::PI * 0.125).abs() < 1e-2);
+    let json = with_body("{ \"mass\": 2 }");
+    let (_, world) = Scene::parse(&json, "good.json")
+        .unwrap()
+        .model(Path::new("."), "good.json")
+        .unwrap();
+    assert_eq!(world.colliders[0].body.as_ref().unwrap().mass, 2.0);
+}
+
+#[test]
+fn zero_or_negative_body_density() {
+    for density in ["0", "-500"] {
+        let json = with_body(&format!("{{ \"density\": {density} }}"));
+        assert_error(
+            &json,
+            "colliders[0].body.density",
+            "must be a positive number",
+        );
+    }
+    let json = with_body("{ \"mass\": -1 }");
+    assert_error(&json, "colliders[0].body.mass", "must be a positive number");
+}
+
+#[test]
+fn body_needs_exactly_one_of_density_and_mass() {
+    for body in ["{}", "{ \"density\": 500, \"mass\": 1 }"] {
+        assert_error(
+            &with_body(body),
+            "colliders[0].body",
+            "give either density or mass",
+        );
+    }
+    assert_error(
+        &with_body("{ \"density\": 500, \"weight\": 1 }"),
+        "colliders[0].body",
+        "unknown field `weight`",
+    );
+}
+
+#[test]
+fn plane_cannot_be_dynamic() {
+    let json = with_collider_shape("{ \"plane\": {} }, \"body\": { \"density\": 500 }");
+    assert_error(&json, "colliders[0].body", "a plane cannot be dynamic");
+}
+
+#[test]
+fn body_and_motion_exclude_each_other() {
+    let json = with_body("{ \"density\": 500 }, \"motion\": { \"angular_velocity\": [0, 1, 0] }");
+    assert_error(
+        &json,
+        "colliders[0].body",
+        "either scripted (motion) or dynamic (body), not both",
+    );
+}
+
+#[test]
+fn dynamic_mesh_must_be_closed() {
+    let dir = std::env::temp_dir().join(format!("pleat-open-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("open.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let json = with_collider_shape(
+        "{ \"mesh\": { \"path\": \"open.obj\" } }, \"body\": { \"density\": 500 }",
+    );
+    let scene = Scene::parse(&json, "bad.json").unwrap();
+    let e = scene.model(&dir, "bad.json").unwrap_err().to_string();
+    assert!(
+        e.contains("colliders[0].body") && e.contains("must be closed"),
+        "{e}"
+    );
+}

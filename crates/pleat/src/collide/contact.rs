@@ -18,17 +18,26 @@ pub struct ColliderPose {
 }
 
 impl ColliderPose {
+    /// Where a static or kinematic collider is over `[t_start, t_end]`; a
+    /// dynamic one over its current substep.
     pub fn over(collider: &Collider, t_start: f32, t_end: f32) -> Self {
-        let end = collider.motion.pose_at(t_end);
+        let (start, end) = match &collider.body {
+            Some(body) => (body.prev_pose(), body.pose()),
+            None => (
+                collider.motion.pose_at(t_start),
+                collider.motion.pose_at(t_end),
+            ),
+        };
         ColliderPose {
-            start: collider.motion.pose_at(t_start),
+            start,
             end,
             end_inverse: end.inverse(),
         }
     }
 }
 
-/// Pushes every particle out of every collider and applies friction.
+/// Pushes every particle out of every static or kinematic collider and
+/// applies friction (dynamic colliders are left to [`super::body_contact`]).
 /// Returns the number of contacts.
 pub fn project_contacts(
     x: &mut [Vec3],
@@ -65,6 +74,9 @@ fn contact(
     collider: &Collider,
     pose: &ColliderPose,
 ) -> bool {
+    if collider.body.is_some() {
+        return false;
+    }
     let local = pose.end_inverse.transform_point3(*x);
     let Some((distance, local_normal)) = collider.shape.signed_distance_within(local, thickness)
     else {
@@ -102,6 +114,7 @@ mod tests {
             },
             motion: Motion::default(),
             friction,
+            body: None,
         }
     }
 
@@ -168,6 +181,7 @@ mod tests {
                 static_coefficient: 1.0,
                 kinetic_coefficient: 1.0,
             },
+            body: None,
         };
         // A particle resting on the equator, pressed in slightly: the surface moves along -z.
         let x = resolve(

@@ -26,7 +26,7 @@ pub struct Metrics {
 
 impl Metrics {
     pub fn measure(model: &Model, world: &World, particles: &Particles) -> Self {
-        let nan = particles.has_non_finite();
+        let nan = particles.has_non_finite() || !world.bodies_are_finite();
         let (max_stretch, mean_stretch) = stretch(model, particles);
         Metrics {
             max_stretch,
@@ -62,7 +62,8 @@ pub fn stretch(model: &Model, particles: &Particles) -> (f32, f32) {
     )
 }
 
-/// Particles deeper than their thickness inside any collider at the world's time.
+/// Particles deeper than their thickness inside any collider at the world's
+/// time (dynamic colliders where their bodies are now).
 pub fn collider_penetrations(model: &Model, world: &World, particles: &Particles) -> usize {
     particles
         .x

@@ -2,10 +2,11 @@
 //! built or loaded, pins resolved to vertices, colliders placed.
 
 use super::{
-    ClothSpec, ColliderSpec, Corner, MeshSpec, MotionSpec, PatternMeshSpec, PinSpec, Scene,
-    SceneError, SceneErrors, ShapeSpec, Side,
+    BodySpec, ClothSpec, ColliderSpec, Corner, MeshSpec, MotionSpec, PatternMeshSpec, PinSpec,
+    Scene, SceneError, SceneErrors, ShapeSpec, Side,
 };
-use crate::collide::{Collider, MeshCollider, Motion, SdfGrid, Shape};
+use crate::collide::rigid_body::{mesh_samples, sample_points};
+use crate::collide::{Collider, MassProperties, MeshCollider, Motion, RigidBody, SdfGrid, Shape};
 use crate::mesh::{obj::load_obj, GridSpec, Mesh};
 use crate::metrics::intersections::count_self_intersections;
 use crate::model::{Model, Pin};
@@ -53,7 +54,7 @@ impl Scene {
                 Ok(c) => colliders.push(c),
                 Err((sub, reason)) => errors.push(SceneError {
                     file: file.into(),
-                    path: format!("colliders[{i}].shape.{sub}"),
+                    path: format!("colliders[{i}].{sub}"),
                     reason,
                 }),
             }
@@ -240,10 +241,13 @@ fn motion(spec: &MotionSpec, default_pivot: Vec3) -> Motion {
     }
 }
 
-/// An error inside a collider's shape: the path below `shape` and the reason.
-type ShapeError = (String, String);
+/// An error inside a collider: the path below `colliders[i]` and the reason.
+type ColliderError = (String, String);
 
-fn collider(spec: &ColliderSpec, base_dir: &Path) -> Result<Collider, ShapeError> {
+fn collider(spec: &ColliderSpec, base_dir: &Path) -> Result<Collider, ColliderError> {
+    // Distance fields and generated shapes of a dynamic collider are weighed
+    // and sampled through their meshes.
+    let mut baked_from = None;
     let (shape, centre) = match spec.shape.clone() {
         ShapeSpec::Plane { point, normal } => (
             Shape::Plane {
@@ -276,43 +280,88 @@ fn collider(spec: &ColliderSpec, base_dir: &Path) -> Result<Collider, ShapeError
         ShapeSpec::Capsule { a, b, radius } => (Shape::Capsule { a, b, radius }, (a + b) / 2.0),
         ShapeSpec::Mesh(m) => {
             let mesh = placed_mesh(base_dir, &m.path, m.scale, m.translate)
-                .map_err(|reason| ("mesh.path".to_string(), reason))?;
+                .map_err(|reason| ("shape.mesh.path".to_string(), reason))?;
             let centre = mesh_centre(&mesh);
             (Shape::Mesh(Arc::new(mesh)), centre)
         }
         ShapeSpec::Sdf(s) => {
             let mesh = placed_mesh(base_dir, &s.path, s.scale, s.translate)
-                .map_err(|reason| ("sdf.path".to_string(), reason))?;
+                .map_err(|reason| ("shape.sdf.path".to_string(), reason))?;
             let grid = SdfGrid::bake(&mesh, s.cell_size)
-                .map_err(|reason| ("sdf.cell_size".to_string(), reason))?;
-            (Shape::Sdf(Arc::new(grid)), mesh_centre(&mesh))
+                .map_err(|reason| ("shape.sdf.cell_size".to_string(), reason))?;
+            let centre = mesh_centre(&mesh);
+            baked_from = Some(mesh);
+            (Shape::Sdf(Arc::new(grid)), centre)
         }
         ShapeSpec::TorusKnot(k) => {
             let mesh = k.knot().mesh();
             let crossings = count_self_intersections(&mesh.positions, &mesh.triangles);
             if crossings > 0 {
                 return Err((
-                    "torus_knot.tube".to_string(),
+                    "shape.torus_knot.tube".to_string(),
                     format!(
                         "the tube's mesh intersects itself ({crossings} pairs of triangles): use a thinner tube or more segments"
                     ),
                 ));
             }
             let shape = generated_shape(&mesh, k.sdf_cell_size)
-                .map_err(|reason| ("torus_knot.sdf_cell_size".to_string(), reason))?;
+                .map_err(|reason| ("shape.torus_knot.sdf_cell_size".to_string(), reason))?;
+            if spec.body.is_some() {
+                baked_from = Some(MeshCollider::new(&mesh));
+            }
             (shape, k.center)
         }
         ShapeSpec::Icosphere(s) => {
-            let shape = generated_shape(&s.icosphere().mesh(), s.sdf_cell_size)
-                .map_err(|reason| ("icosphere.sdf_cell_size".to_string(), reason))?;
+            let mesh = s.icosphere().mesh();
+            let shape = generated_shape(&mesh, s.sdf_cell_size)
+                .map_err(|reason| ("shape.icosphere.sdf_cell_size".to_string(), reason))?;
+            if spec.body.is_some() {
+                baked_from = Some(MeshCollider::new(&mesh));
+            }
             (shape, s.center)
         }
+    };
+    let body = match &spec.body {
+        Some(b) => Some(
+            dynamic_body(&shape, baked_from.as_ref(), b)
+                .map_err(|reason| ("body".to_string(), reason))?,
+        ),
+        None => None,
     };
     Ok(Collider {
         shape,
         motion: motion(&spec.motion, centre),
         friction: spec.friction,
+        body,
     })
+}
+
+/// The rigid body of a dynamic collider, at rest where its shape is placed
+/// and then given the spec's initial velocities.
+fn dynamic_body(
+    shape: &Shape,
+    baked_from: Option<&MeshCollider>,
+    spec: &BodySpec,
+) -> Result<RigidBody, String> {
+    let density = spec.density.unwrap_or(1.0);
+    let (props, samples) = match baked_from {
+        Some(mesh) => (
+            MassProperties::mesh(mesh.triangles(), density)?,
+            mesh_samples(mesh),
+        ),
+        None => (
+            MassProperties::of_shape(shape, density)?,
+            sample_points(shape),
+        ),
+    };
+    let props = match spec.mass {
+        Some(mass) => props.with_mass(mass),
+        None => props,
+    };
+    let mut body = RigidBody::new(props, samples);
+    body.linear_velocity = spec.linear_velocity;
+    body.angular_velocity = spec.angular_velocity;
+    Ok(body)
 }
 
 /// A collider mesh loaded from `path` (relative to `base_dir`) and placed at

@@ -214,7 +214,8 @@ pub struct MotionSpec {
     pub pivot: Option<Vec3>,
 }
 
-/// A collider: shape, friction and motion.
+/// A collider: shape, friction, and either scripted motion (static or
+/// kinematic) or a dynamic body.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ColliderSpec {
@@ -223,6 +224,25 @@ pub struct ColliderSpec {
     pub friction: Friction,
     #[serde(default)]
     pub motion: MotionSpec,
+    /// Makes the collider a dynamic rigid body, moved by gravity, the cloth
+    /// and the static colliders.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub body: Option<BodySpec>,
+}
+
+/// A dynamic rigid body: give its `density` (kg/m^3) or its `mass` (kg);
+/// the inertia follows from the shape.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct BodySpec {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub density: Option<f32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mass: Option<f32>,
+    /// Initial velocity of the centre of mass (m/s).
+    pub linear_velocity: Vec3,
+    /// Initial spin (rad/s, axis times rate).
+    pub angular_velocity: Vec3,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

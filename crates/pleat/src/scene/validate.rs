@@ -2,7 +2,8 @@
 //! densities, zero radii. Every error found is reported, each with its path.
 
 use super::{
-    ClothSpec, ColliderSpec, FoldSpec, MeshSpec, PatternMeshSpec, Scene, SceneError, ShapeSpec,
+    BodySpec, ClothSpec, ColliderSpec, FoldSpec, MeshSpec, MotionSpec, PatternMeshSpec, Scene,
+    SceneError, ShapeSpec,
 };
 use crate::collide::SelfCollision;
 use crate::force::Wind;
@@ -302,6 +303,9 @@ impl Validator<'_> {
                 self.generated(&p, s.icosphere().check(), s.sdf_cell_size);
             }
         }
+        if let Some(body) = &c.body {
+            self.body(path, c, body);
+        }
         self.non_negative(
             &format!("{path}.friction.static"),
             c.friction.static_coefficient,
@@ -309,6 +313,34 @@ impl Validator<'_> {
         self.non_negative(
             &format!("{path}.friction.kinetic"),
             c.friction.kinetic_coefficient,
+        );
+    }
+
+    /// A dynamic body: a mass, a shape that has one, no scripted motion.
+    fn body(&mut self, path: &str, c: &ColliderSpec, body: &BodySpec) {
+        let p = format!("{path}.body");
+        self.check(
+            !matches!(c.shape, ShapeSpec::Plane { .. }),
+            &p,
+            "a plane cannot be dynamic: it has no finite mass",
+        );
+        self.check(
+            c.motion == MotionSpec::default(),
+            &p,
+            "a collider is either scripted (motion) or dynamic (body), not both",
+        );
+        match (body.density, body.mass) {
+            (Some(density), None) => self.positive(&format!("{p}.density"), density),
+            (None, Some(mass)) => self.positive(&format!("{p}.mass"), mass),
+            _ => self.check(false, &p, "give either density or mass"),
+        }
+        self.finite3(
+            &format!("{p}.linear_velocity"),
+            body.linear_velocity.to_array(),
+        );
+        self.finite3(
+            &format!("{p}.angular_velocity"),
+            body.angular_velocity.to_array(),
         );
     }
 

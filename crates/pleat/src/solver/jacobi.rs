@@ -76,7 +76,7 @@ impl super::Solver for JacobiPbd {
     fn step(
         &mut self,
         particles: &mut Particles,
-        world: &World,
+        world: &mut World,
         frame_dt: f32,
         stages: &mut StageTimes,
     ) {

@@ -82,7 +82,7 @@ impl MassSpring {
     fn verlet_step(
         &mut self,
         p: &mut Particles,
-        world: &World,
+        world: &mut World,
         t: f32,
         dt: f32,
         stages: &mut StageTimes,
@@ -183,7 +183,7 @@ impl super::Solver for MassSpring {
     fn step(
         &mut self,
         particles: &mut Particles,
-        world: &World,
+        world: &mut World,
         frame_dt: f32,
         stages: &mut StageTimes,
     ) {

@@ -131,7 +131,7 @@ pub trait Solver: Send {
     fn step(
         &mut self,
         particles: &mut Particles,
-        world: &World,
+        world: &mut World,
         frame_dt: f32,
         stages: &mut StageTimes,
     );

@@ -9,6 +9,7 @@
 use super::parallel::ColoredConstraints;
 use super::xpbd::{predict, update_velocities};
 use super::{SolverSettings, StageTimes};
+use crate::collide::body_contact::BodyContacts;
 use crate::collide::{project_contacts, ColliderPose};
 use crate::constraint::Attachment;
 use crate::force::WindForces;
@@ -112,10 +113,14 @@ impl Prediction {
     }
 }
 
-/// Cloth-collider contacts with friction, over one step at a time.
+/// Cloth-collider contacts with friction, over one step at a time, and the
+/// dynamic rigid bodies: they are predicted, pushed by the cloth and by the
+/// static colliders and given their new velocities here, so that every
+/// solver moves them with its own substeps.
 pub struct Contacts {
     thickness: Vec<f32>,
     poses: Vec<ColliderPose>,
+    bodies: BodyContacts,
 }
 
 impl Contacts {
@@ -123,20 +128,30 @@ impl Contacts {
         Contacts {
             thickness: model.thickness.clone(),
             poses: Vec::new(),
+            bodies: BodyContacts::default(),
         }
     }
 
     /// Pushes the particles out of the colliders as they move from `t` to
     /// `t + dt`, with friction on the motion since `x_prev`; adds the contacts to `stages`.
+    /// Dynamic bodies take their substep from `t` to `t + dt` here.
     pub fn resolve(
         &mut self,
         p: &mut Particles,
-        world: &World,
+        world: &mut World,
         t: f32,
         dt: f32,
         stages: &mut StageTimes,
     ) {
         let contacts = StageTimes::time(&mut stages.collisions, || {
+            let dynamic = world.colliders.iter().any(|c| c.is_dynamic());
+            if dynamic {
+                for c in &mut world.colliders {
+                    if let Some(body) = &mut c.body {
+                        body.predict(world.gravity, dt);
+                    }
+                }
+            }
             self.poses.clear();
             self.poses.extend(
                 world
@@ -144,16 +159,47 @@ impl Contacts {
                     .iter()
                     .map(|c| ColliderPose::over(c, t, t + dt)),
             );
-            project_contacts(
+            let mut found = project_contacts(
                 &mut p.x,
                 &p.x_prev,
                 &p.inv_mass,
                 &self.thickness,
                 &world.colliders,
                 &self.poses,
-            )
+            );
+            if dynamic {
+                found += self.resolve_bodies(p, world, dt);
+            }
+            found
         });
         stages.contacts += contacts as u64;
+    }
+
+    /// Cloth-body then body-static contacts of every dynamic body, then
+    /// the bodies' velocities.
+    fn resolve_bodies(&mut self, p: &mut Particles, world: &mut World, dt: f32) -> usize {
+        let mut found = 0;
+        for j in 0..world.colliders.len() {
+            let Some(mut body) = world.colliders[j].body.take() else {
+                continue;
+            };
+            found += self.bodies.cloth_body(
+                &mut p.x,
+                &p.x_prev,
+                &p.inv_mass,
+                &self.thickness,
+                &mut body,
+                j,
+                &world.colliders,
+                &self.poses,
+            );
+            found += self
+                .bodies
+                .body_static(&mut body, j, &world.colliders, &self.poses);
+            body.update_velocities(dt);
+            world.colliders[j].body = Some(body);
+        }
+        found
     }
 }
 
@@ -187,7 +233,7 @@ impl PbdLoop {
     pub fn step(
         &mut self,
         p: &mut Particles,
-        world: &World,
+        world: &mut World,
         frame_dt: f32,
         stages: &mut StageTimes,
         mut project: impl FnMut(&mut Particles),
@@ -203,7 +249,7 @@ impl PbdLoop {
     fn substep(
         &mut self,
         p: &mut Particles,
-        world: &World,
+        world: &mut World,
         t: f32,
         dt: f32,
         stages: &mut StageTimes,

@@ -75,7 +75,7 @@ impl super::Solver for PbdShapeMatching {
     fn step(
         &mut self,
         particles: &mut Particles,
-        world: &World,
+        world: &mut World,
         frame_dt: f32,
         stages: &mut StageTimes,
     ) {

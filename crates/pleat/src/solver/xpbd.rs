@@ -105,7 +105,7 @@ impl Xpbd {
     fn substep(
         &mut self,
         p: &mut Particles,
-        world: &World,
+        world: &mut World,
         t: f32,
         dt: f32,
         stages: &mut StageTimes,
@@ -177,7 +177,7 @@ impl super::Solver for Xpbd {
     fn step(
         &mut self,
         particles: &mut Particles,
-        world: &World,
+        world: &mut World,
         frame_dt: f32,
         stages: &mut StageTimes,
     ) {
