@@ -15,6 +15,7 @@ pub struct ColliderPose {
     pub start: Affine3A,
     pub end: Affine3A,
     pub end_inverse: Affine3A,
+    pub start_inverse: Affine3A,
 }
 
 impl ColliderPose {
@@ -32,6 +33,7 @@ impl ColliderPose {
             start,
             end,
             end_inverse: end.inverse(),
+            start_inverse: start.inverse(),
         }
     }
 }
@@ -78,7 +80,10 @@ fn contact(
         return false;
     }
     let local = pose.end_inverse.transform_point3(*x);
-    let Some((distance, local_normal)) = collider.shape.signed_distance_within(local, thickness)
+    let local_prev = pose.start_inverse.transform_point3(x_prev);
+    let Some((distance, local_normal)) = collider
+        .shape
+        .swept_signed_distance_within(local_prev, local, thickness)
     else {
         return false;
     };
@@ -130,6 +135,42 @@ mod tests {
             &[pose],
         );
         x[0]
+    }
+
+    #[test]
+    fn fast_particle_stops_on_a_thin_mesh_plate() {
+        use crate::collide::MeshCollider;
+        use crate::mesh::Mesh;
+        let plate = Mesh {
+            positions: vec![
+                Vec3::new(-1.0, 0.0, -1.0),
+                Vec3::new(1.0, 0.0, -1.0),
+                Vec3::new(1.0, 0.0, 1.0),
+                Vec3::new(-1.0, 0.0, 1.0),
+            ],
+            triangles: vec![[0, 2, 1], [0, 3, 2]],
+            grid: None,
+        };
+        let collider = Collider {
+            shape: Shape::Mesh(std::sync::Arc::new(MeshCollider::new(&plate))),
+            motion: Motion::default(),
+            friction: Friction::default(),
+            body: None,
+        };
+        // 100 m/s downwards over a substep of 1/600 s, from 1 cm above.
+        let x = resolve(
+            &collider,
+            Vec3::new(0.1, 0.01, 0.2),
+            Vec3::new(0.1, -0.157, 0.2),
+        );
+        assert!((x.y - 0.01).abs() < 1e-5, "stopped on top: {x}");
+        // And from below, upwards.
+        let x = resolve(
+            &collider,
+            Vec3::new(0.1, -0.01, 0.2),
+            Vec3::new(0.1, 0.157, 0.2),
+        );
+        assert!((x.y + 0.01).abs() < 1e-5, "stopped underneath: {x}");
     }
 
     #[test]
