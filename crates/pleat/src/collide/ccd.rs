@@ -107,6 +107,45 @@ pub fn segment_closest_params(p0: Vec3, p1: Vec3, q0: Vec3, q1: Vec3) -> (f32, f
     (s, u)
 }
 
+/// Distance between the segments `p0 p1` and `q0 q1`.
+pub fn segment_distance(p0: Vec3, p1: Vec3, q0: Vec3, q1: Vec3) -> f32 {
+    let (s, u) = segment_closest_params(p0, p1, q0, q1);
+    p0.lerp(p1, s).distance(q0.lerp(q1, u))
+}
+
+/// Distance from `p` to the triangle `abc` (Ericson, Real-Time Collision Detection 5.1.5).
+pub fn point_triangle_distance(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> f32 {
+    let (ab, ac, ap) = (b - a, c - a, p - a);
+    let (d1, d2) = (ab.dot(ap), ac.dot(ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return ap.length();
+    }
+    let bp = p - b;
+    let (d3, d4) = (ab.dot(bp), ac.dot(bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return bp.length();
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return p.distance(a + ab * (d1 / (d1 - d3)));
+    }
+    let cp = p - c;
+    let (d5, d6) = (ab.dot(cp), ac.dot(cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return cp.length();
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return p.distance(a + ac * (d2 / (d2 - d6)));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        return p.distance(b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))));
+    }
+    let denom = 1.0 / (va + vb + vc);
+    p.distance(a + ab * (vb * denom) + ac * (vc * denom))
+}
+
 /// Coefficients `k[0] + k[1] t + k[2] t^2 + k[3] t^3` of the triple product.
 fn coplanarity_cubic(p: Sweep, a: Sweep, b: Sweep, c: Sweep) -> [f64; 4] {
     let rel = |s: Sweep| {
@@ -301,6 +340,24 @@ mod tests {
             end: s.end + Vec3::X * 0.6,
         };
         assert_eq!(edge_edge(a0, a1, shift(b0), shift(b1)), None);
+    }
+
+    #[test]
+    fn point_triangle_distance_matches_a_fine_search() {
+        let mut rng = crate::test_rng::Rng(11);
+        for _ in 0..200 {
+            let [p, a, b, c] = [(); 4].map(|_| rng.vec3() * 2.0 - 1.0);
+            let d = point_triangle_distance(p, a, b, c);
+            let steps = 100;
+            let brute = (0..=steps)
+                .flat_map(|i| (0..=steps - i).map(move |j| (i, j)))
+                .map(|(i, j)| {
+                    let (u, v) = (i as f32 / steps as f32, j as f32 / steps as f32);
+                    p.distance(a + (b - a) * u + (c - a) * v)
+                })
+                .fold(f32::MAX, f32::min);
+            assert!(d <= brute + 1e-5 && d >= brute - 0.05, "{d} vs {brute}");
+        }
     }
 
     #[test]

@@ -2,8 +2,9 @@
 //! patches ([`super::patches`]) go into a flat [`HashGrid`]; each pair of
 //! patches whose boxes overlap is culled when it is one connected piece of
 //! surface with a narrow [`NormalCone`] (it cannot touch itself), else its
-//! vertex-triangle, particle and edge pairs whose swept boxes overlap become
-//! candidate contacts, less the pairs the rest mesh excludes.
+//! vertex-triangle and particle pairs near enough, and the edge pairs that
+//! may have crossed, become candidate contacts, less the pairs the rest mesh
+//! excludes.
 //!
 //! Boxes hold each particle's motion over the substep (its start and its
 //! predicted end) grown by half the thickness, so two boxes overlap whenever
@@ -13,10 +14,11 @@
 //! fast it moves; crumpled or layered cloth costs in proportion to the surface
 //! that lies close to other surface.
 
-use super::narrow_phase::Contact;
+use super::narrow_phase::{Contact, EdgePair};
 use super::normal_cone::NormalCone;
 use super::patches::Patches;
 use super::rest::RestNeighbourhood;
+use crate::collide::ccd;
 use crate::collide::hash_grid::{Aabb, HashGrid};
 use glam::Vec3;
 use rayon::prelude::*;
@@ -27,6 +29,9 @@ use std::f32::consts::PI;
 /// than the thickness are at most two thicknesses apart along the surface,
 /// which the rest exclusions already cover.
 const FLAT_CONE: f32 = PI / 3.0;
+/// Extra reach of proximity candidates, in thicknesses: room for the
+/// contacts' own corrections within the substep.
+const SLACK: f32 = 0.25;
 /// Grid cell size, in mean patch boxes.
 const CELL: f32 = 1.0;
 
@@ -70,11 +75,13 @@ impl Smoothness {
 /// Per-substep bounds and the grid of patch boxes, kept between substeps.
 #[derive(Clone, Debug, Default)]
 pub(super) struct BroadPhase {
+    /// Per particle: swept box grown by half the thickness, and how far it moved.
+    vertex_box: Vec<Aabb>,
+    motion: Vec<f32>,
     patch: Vec<PatchBound>,
     cluster: Vec<Smoothness>,
     patch_box: Vec<Aabb>,
     grid: HashGrid,
-    half_thickness: f32,
 }
 
 impl BroadPhase {
@@ -91,8 +98,7 @@ impl BroadPhase {
         thickness: f32,
         out: &mut Vec<Contact>,
     ) {
-        self.half_thickness = 0.5 * thickness;
-        self.refit(rest, patches, x_prev, x);
+        self.refit(rest, patches, x_prev, x, 0.5 * thickness);
         // A sequential sum: the cell size, and so the order candidates are
         // found in, is the same for any thread count.
         let total: f32 = self.patch_box.iter().map(Aabb::extent).sum();
@@ -102,9 +108,9 @@ impl BroadPhase {
             rest,
             patches,
             bounds: self,
-            x_prev,
             x,
             inv_mass,
+            thickness,
         };
         out.clear();
         out.par_extend(
@@ -116,17 +122,34 @@ impl BroadPhase {
     }
 
     /// Swept boxes and normal cones of the patches.
-    fn refit(&mut self, rest: &RestNeighbourhood, patches: &Patches, x_prev: &[Vec3], x: &[Vec3]) {
-        let half = self.half_thickness;
+    fn refit(
+        &mut self,
+        rest: &RestNeighbourhood,
+        patches: &Patches,
+        x_prev: &[Vec3],
+        x: &[Vec3],
+        half: f32,
+    ) {
+        self.vertex_box.resize(x.len(), Aabb::EMPTY);
+        self.motion.resize(x.len(), 0.0);
+        (&mut self.vertex_box, &mut self.motion, (x_prev, x))
+            .into_par_iter()
+            .with_min_len(1024)
+            .for_each(|(b, m, (&p, &q))| {
+                *b = Aabb::around(p, q).expanded(half);
+                *m = p.distance(q);
+            });
+        let vertex_box = &self.vertex_box;
         self.patch.resize(patches.len(), PatchBound::default());
         self.patch
             .par_iter_mut()
             .enumerate()
             .with_min_len(64)
             .for_each_init(Vec::new, |normals, (p, bound)| {
-                let aabb = patches.corners(p).iter().fold(Aabb::EMPTY, |u, &k| {
-                    u.union(Aabb::around(x_prev[k as usize], x[k as usize]))
-                });
+                let aabb = patches
+                    .corners(p)
+                    .iter()
+                    .fold(Aabb::EMPTY, |u, &k| u.union(vertex_box[k as usize]));
                 normals.clear();
                 normals.extend(
                     patches
@@ -135,7 +158,7 @@ impl BroadPhase {
                         .map(|&t| unit_normal(&rest.triangles[t as usize], x)),
                 );
                 *bound = PatchBound {
-                    aabb: aabb.expanded(half),
+                    aabb,
                     cone: Smoothness::new(NormalCone::around(normals.iter().copied())),
                 };
             });
@@ -169,41 +192,76 @@ struct Scan<'a> {
     rest: &'a RestNeighbourhood,
     patches: &'a Patches,
     bounds: &'a BroadPhase,
-    x_prev: &'a [Vec3],
     x: &'a [Vec3],
     inv_mass: &'a [f32],
+    thickness: f32,
+}
+
+/// The features of one patch whose boxes meet another patch's box, with
+/// their boxes and how far their particles moved in the substep.
+#[derive(Default)]
+struct Near {
+    vertices: Vec<(u32, Aabb, f32)>,
+    triangles: Vec<([u32; 3], Aabb, f32)>,
+    edges: Vec<([u32; 2], Aabb, f32)>,
+}
+
+impl Near {
+    fn gather(&mut self, scan: &Scan, p: usize, other: &Aabb) {
+        let (vertex_box, motion) = (&scan.bounds.vertex_box, &scan.bounds.motion);
+        let feature = |v: &[u32]| {
+            v.iter().fold((Aabb::EMPTY, 0.0f32), |(b, m), &k| {
+                (b.union(vertex_box[k as usize]), m.max(motion[k as usize]))
+            })
+        };
+        self.vertices.clear();
+        self.triangles.clear();
+        self.edges.clear();
+        for &v in scan.patches.vertices(p) {
+            let (b, m) = feature(&[v]);
+            if b.overlaps(other) {
+                self.vertices.push((v, b, m));
+            }
+        }
+        for &t in scan.patches.triangles(p) {
+            let tri = scan.rest.triangles[t as usize];
+            let (b, m) = feature(&tri);
+            if b.overlaps(other) {
+                self.triangles.push((tri, b, m));
+            }
+        }
+        for &e in scan.patches.edges(p) {
+            let (b, m) = feature(&e);
+            if b.overlaps(other) {
+                self.edges.push((e, b, m));
+            }
+        }
+    }
 }
 
 impl Scan<'_> {
-    /// Swept box of particle `k`, grown by half the thickness.
-    fn vertex_box(&self, k: u32) -> Aabb {
-        let k = k as usize;
-        Aabb::around(self.x_prev[k], self.x[k]).expanded(self.bounds.half_thickness)
-    }
-
-    fn edge_box(&self, e: [u32; 2]) -> Aabb {
-        self.vertex_box(e[0]).union(self.vertex_box(e[1]))
-    }
-
-    fn triangle_box(&self, t: [u32; 3]) -> Aabb {
-        self.edge_box([t[0], t[1]]).union(self.vertex_box(t[2]))
-    }
-
     /// Candidates of patch `a` with itself and with the patches after it.
     fn candidates_of(&self, a: usize) -> Vec<Contact> {
         let mut out = Vec::new();
-        let b = &self.bounds;
-        b.grid.for_each_overlapping(&b.patch[a].aabb, |q| {
+        let (mut mine, mut theirs) = (Near::default(), Near::default());
+        let patch = &self.bounds.patch;
+        self.bounds.grid.for_each_overlapping(&patch[a].aabb, |q| {
             let q = q as usize;
             if q < a || self.culled(a, q) {
                 return;
             }
-            self.vertex_triangle(a, q, &mut out);
-            if q != a {
-                self.vertex_triangle(q, a, &mut out);
+            mine.gather(self, a, &patch[q].aabb);
+            let same = q == a;
+            if !same {
+                theirs.gather(self, q, &patch[a].aabb);
             }
-            self.particle_pairs(a, q, &mut out);
-            self.edge_pairs(a, q, &mut out);
+            let other = if same { &mine } else { &theirs };
+            self.vertex_triangle(&mine, other, &mut out);
+            if !same {
+                self.vertex_triangle(other, &mine, &mut out);
+            }
+            self.particle_pairs(&mine, other, same, &mut out);
+            self.edge_pairs(&mine, other, same, &mut out);
         });
         out
     }
@@ -234,59 +292,68 @@ impl Scan<'_> {
         v.iter().any(|&k| self.inv_mass[k as usize] > 0.0)
     }
 
-    /// Vertices owned by patch `a` against the triangles of patch `q`.
-    fn vertex_triangle(&self, a: usize, q: usize, out: &mut Vec<Contact>) {
-        let target = &self.bounds.patch[q].aabb;
-        for &p in self.patches.vertices(a) {
-            let pb = self.vertex_box(p);
-            if !pb.overlaps(target) {
-                continue;
-            }
-            for &t in self.patches.triangles(q) {
-                let tri = self.rest.triangles[t as usize];
+    /// How close two features must be at the substep's end to be kept as a
+    /// proximity contact: within the thickness (and [`SLACK`] for what the
+    /// contacts move them), or further by as much as their particles moved
+    /// in the substep (each in a line), since they may have met on the way.
+    fn reach(&self, motion_a: f32, motion_b: f32) -> f32 {
+        (1.0 + SLACK) * self.thickness + motion_a + motion_b
+    }
+
+    /// Vertices of `a` against triangles of `b`.
+    fn vertex_triangle(&self, a: &Near, b: &Near, out: &mut Vec<Contact>) {
+        for &(p, pb, pm) in &a.vertices {
+            for &(tri, tb, tm) in &b.triangles {
                 let v = [p, tri[0], tri[1], tri[2]];
-                if pb.overlaps(&self.triangle_box(tri))
+                if pb.overlaps(&tb)
                     && !self.rest.vertex_triangle_excluded(p, tri)
                     && self.dynamic(&v)
                 {
-                    out.push(Contact::VertexTriangle(v));
+                    let [xp, xa, xb, xc] = v.map(|k| self.x[k as usize]);
+                    if ccd::point_triangle_distance(xp, xa, xb, xc) < self.reach(pm, tm) {
+                        out.push(Contact::VertexTriangle(v));
+                    }
                 }
             }
         }
     }
 
-    /// Particles owned by patches `a <= q`, each pair once.
-    fn particle_pairs(&self, a: usize, q: usize, out: &mut Vec<Contact>) {
-        for &i in self.patches.vertices(a) {
-            let ib = self.vertex_box(i);
-            for &j in self.patches.vertices(q) {
-                if (a == q && j <= i) || !ib.overlaps(&self.vertex_box(j)) {
-                    continue;
-                }
-                if self.dynamic(&[i, j]) && !self.rest.pair_excluded(i, j) {
+    /// Particle pairs of `a` and `b`, each once (`same`: one patch).
+    fn particle_pairs(&self, a: &Near, b: &Near, same: bool, out: &mut Vec<Contact>) {
+        for (k, &(i, ib, im)) in a.vertices.iter().enumerate() {
+            let from = if same { k + 1 } else { 0 };
+            for &(j, jb, jm) in &b.vertices[from..] {
+                if ib.overlaps(&jb)
+                    && self.x[i as usize].distance(self.x[j as usize]) < self.reach(im, jm)
+                    && self.dynamic(&[i, j])
+                    && !self.rest.pair_excluded(i, j)
+                {
                     out.push(Contact::Pair([i, j]));
                 }
             }
         }
     }
 
-    /// Edges owned by patches `a <= q`, each pair once.
-    fn edge_pairs(&self, a: usize, q: usize, out: &mut Vec<Contact>) {
-        let target = &self.bounds.patch[q].aabb;
-        let theirs = self.patches.edges(q);
-        for (k, &e) in self.patches.edges(a).iter().enumerate() {
-            let eb = self.edge_box(e);
-            if !eb.overlaps(target) {
-                continue;
-            }
-            let from = if a == q { k + 1 } else { 0 };
-            for &f in &theirs[from..] {
+    /// Edge pairs of `a` and `b` near enough, each once (`same`: one patch).
+    fn edge_pairs(&self, a: &Near, b: &Near, same: bool, out: &mut Vec<Contact>) {
+        for (k, &(e, eb, em)) in a.edges.iter().enumerate() {
+            let from = if same { k + 1 } else { 0 };
+            for &(f, fb, fm) in &b.edges[from..] {
                 let v = [e[0], e[1], f[0], f[1]];
-                if eb.overlaps(&self.edge_box(f))
-                    && !self.rest.edge_edge_excluded(e, f)
-                    && self.dynamic(&v)
-                {
-                    out.push(Contact::EdgeEdge { v, crossing: None });
+                if !eb.overlaps(&fb) || self.rest.edge_edge_excluded(e, f) || !self.dynamic(&v) {
+                    continue;
+                }
+                let [a0, a1, b0, b1] = v.map(|k| self.x[k as usize]);
+                let (s, u) = ccd::segment_closest_params(a0, a1, b0, b1);
+                let distance = a0.lerp(a1, s).distance(b0.lerp(b1, u));
+                if distance < self.reach(em, fm) {
+                    out.push(Contact::EdgeEdge(EdgePair {
+                        v,
+                        s,
+                        u,
+                        may_cross: distance <= em + fm,
+                        crossed: None,
+                    }));
                 }
             }
         }

@@ -7,10 +7,12 @@
 //!   contact point on the triangle and `s` the side the vertex came from; a
 //!   vertex that crossed the triangle's plane within the substep is caught by
 //!   continuous collision detection ([`ccd::vertex_triangle`]) and pulled back;
-//! - edge-edge: `C = n . (p_a - p_b) - thickness >= 0` between the closest
-//!   points of the two edges, along their separation; edges that crossed
-//!   during the substep ([`ccd::edge_edge`], found once per substep) are
-//!   pulled back along the separation they had at its start.
+//! - edge-edge: `C = |p_a - p_b| - thickness >= 0` between points of the two
+//!   edges fixed when the contact is found (their closest points at the
+//!   substep's end); edges that crossed during the substep
+//!   ([`ccd::edge_edge`], checked once per substep when they may have) are
+//!   held at the points where they met, along the separation they had at
+//!   the substep's start: `C = n . (p_a - p_b) - thickness >= 0`.
 //!
 //! Each contact also removes relative tangential motion (Coulomb friction,
 //! static then kinetic, as for colliders). Every correction is equal and
@@ -21,14 +23,19 @@ use crate::collide::ccd::{self, Sweep};
 use crate::collide::Friction;
 use glam::Vec3;
 
-/// Where two edges crossed during the substep and which way they were apart
-/// before.
+/// An edge-edge contact: edge `a` is `v[0] v[1]`, edge `b` is `v[2] v[3]`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct Crossing {
+pub(super) struct EdgePair {
+    pub v: [u32; 4],
+    /// Parameters of the contact points along each edge.
     pub s: f32,
     pub u: f32,
-    /// Unit direction from edge `b` to edge `a` at the substep's start.
-    pub normal: Vec3,
+    /// Whether the edges were close enough, given how far they moved, to
+    /// have crossed during the substep.
+    pub may_cross: bool,
+    /// Once found to have crossed: the unit direction from `b` to `a` at the
+    /// substep's start.
+    pub crossed: Option<Vec3>,
 }
 
 /// A candidate contact.
@@ -37,25 +44,23 @@ pub(super) enum Contact {
     Pair([u32; 2]),
     /// Vertex, then the triangle's corners.
     VertexTriangle([u32; 4]),
-    /// Edge `a` (two particles), then edge `b`; `crossing` once detected.
-    EdgeEdge {
-        v: [u32; 4],
-        crossing: Option<Crossing>,
-    },
+    EdgeEdge(EdgePair),
 }
 
 impl Contact {
     pub fn particles(&self) -> &[u32] {
         match self {
             Contact::Pair(v) => v,
-            Contact::VertexTriangle(v) | Contact::EdgeEdge { v, .. } => v,
+            Contact::VertexTriangle(v) | Contact::EdgeEdge(EdgePair { v, .. }) => v,
         }
     }
 
     /// Finds, once per substep, whether an edge pair crossed.
     pub fn detect_crossing(&mut self, x: &[Vec3], x_prev: &[Vec3]) {
-        if let Contact::EdgeEdge { v, crossing } = self {
-            *crossing = edge_crossing(*v, x, x_prev);
+        if let Contact::EdgeEdge(e) = self {
+            if e.may_cross {
+                e.detect_crossing(x, x_prev);
+            }
         }
     }
 
@@ -67,13 +72,58 @@ impl Contact {
         inv_mass: &[f32],
         s: &SelfCollision,
     ) -> Option<[Vec3; 4]> {
-        match *self {
-            Contact::Pair(v) => pair_correction(v, x, x_prev, inv_mass, s),
-            Contact::VertexTriangle(v) => vertex_triangle_correction(v, x, x_prev, inv_mass, s),
-            Contact::EdgeEdge { v, crossing } => {
-                edge_edge_correction(v, crossing, x, x_prev, inv_mass, s)
-            }
+        match self {
+            Contact::Pair(v) => pair_correction(*v, x, x_prev, inv_mass, s),
+            Contact::VertexTriangle(v) => vertex_triangle_correction(*v, x, x_prev, inv_mass, s),
+            Contact::EdgeEdge(e) => e.correction(x, x_prev, inv_mass, s),
         }
+    }
+}
+
+impl EdgePair {
+    /// Sets `crossed` (and the meeting points) if the edges crossed.
+    fn detect_crossing(&mut self, x: &[Vec3], x_prev: &[Vec3]) {
+        let v = self.v;
+        let sweep = |k: u32| Sweep {
+            start: x_prev[k as usize],
+            end: x[k as usize],
+        };
+        let Some(hit) = ccd::edge_edge(sweep(v[0]), sweep(v[1]), sweep(v[2]), sweep(v[3])) else {
+            return;
+        };
+        let [a0, a1, b0, b1] = v.map(|k| x_prev[k as usize]);
+        let before = a0.lerp(a1, hit.s) - b0.lerp(b1, hit.u);
+        if let Some(normal) = before
+            .try_normalize()
+            .or_else(|| (a1 - a0).cross(b1 - b0).try_normalize())
+        {
+            (self.s, self.u, self.crossed) = (hit.s, hit.u, Some(normal));
+        }
+    }
+
+    /// Corrections of two edges closer than the thickness at their contact
+    /// points, or that crossed during the substep.
+    fn correction(
+        &self,
+        x: &[Vec3],
+        x_prev: &[Vec3],
+        inv_mass: &[f32],
+        s: &SelfCollision,
+    ) -> Option<[Vec3; 4]> {
+        let [a0, a1, b0, b1] = self.v.map(|k| x[k as usize]);
+        let diff = a0.lerp(a1, self.s) - b0.lerp(b1, self.u);
+        let (normal, height) = match self.crossed {
+            Some(n) => (n, n.dot(diff)),
+            None => {
+                let dist = diff.length();
+                (diff.try_normalize()?, dist)
+            }
+        };
+        if height >= s.thickness {
+            return None;
+        }
+        let weights = [1.0 - self.s, self.s, self.u - 1.0, -self.u];
+        separate(self.v, weights, normal, height, x, x_prev, inv_mass, s)
     }
 }
 
@@ -158,55 +208,6 @@ fn vertex_triangle_correction(
     separate(v, weights, side * normal, height, x, x_prev, inv_mass, s)
 }
 
-/// Where the edges `v[0] v[1]` and `v[2] v[3]` crossed during the substep.
-fn edge_crossing(v: [u32; 4], x: &[Vec3], x_prev: &[Vec3]) -> Option<Crossing> {
-    let sweep = |k: u32| Sweep {
-        start: x_prev[k as usize],
-        end: x[k as usize],
-    };
-    let hit = ccd::edge_edge(sweep(v[0]), sweep(v[1]), sweep(v[2]), sweep(v[3]))?;
-    let [a0, a1, b0, b1] = v.map(|k| x_prev[k as usize]);
-    let before = a0.lerp(a1, hit.s) - b0.lerp(b1, hit.u);
-    let normal = before
-        .try_normalize()
-        .or_else(|| (a1 - a0).cross(b1 - b0).try_normalize())?;
-    Some(Crossing {
-        s: hit.s,
-        u: hit.u,
-        normal,
-    })
-}
-
-/// Corrections of two edges closer than the thickness, or that crossed
-/// during the substep.
-fn edge_edge_correction(
-    v: [u32; 4],
-    crossing: Option<Crossing>,
-    x: &[Vec3],
-    x_prev: &[Vec3],
-    inv_mass: &[f32],
-    s: &SelfCollision,
-) -> Option<[Vec3; 4]> {
-    let [a0, a1, b0, b1] = v.map(|k| x[k as usize]);
-    let (sa, sb, normal) = match crossing {
-        Some(c) => (c.s, c.u, c.normal),
-        None => {
-            let (sa, sb) = ccd::segment_closest_params(a0, a1, b0, b1);
-            let diff = a0.lerp(a1, sa) - b0.lerp(b1, sb);
-            if diff.length_squared() >= s.thickness * s.thickness {
-                return None;
-            }
-            (sa, sb, diff.try_normalize()?)
-        }
-    };
-    let height = normal.dot(a0.lerp(a1, sa) - b0.lerp(b1, sb));
-    if height >= s.thickness {
-        return None;
-    }
-    let weights = [1.0 - sa, sa, sb - 1.0, -sb];
-    separate(v, weights, normal, height, x, x_prev, inv_mass, s)
-}
-
 /// Moves the contact points `sum_k weights[k] x[v[k]]` apart along `normal`
 /// until their separation `height` reaches the thickness, with friction on
 /// their relative motion; each particle moves in proportion to its inverse
@@ -285,6 +286,19 @@ mod tests {
         assert!(side > 0.9 * s.thickness, "height {side}");
     }
 
+    /// The edge pair `v` as found at the end positions `x`.
+    fn edge_pair(v: [u32; 4], x: &[Vec3], may_cross: bool) -> Contact {
+        let [a0, a1, b0, b1] = v.map(|k| x[k as usize]);
+        let (s, u) = ccd::segment_closest_params(a0, a1, b0, b1);
+        Contact::EdgeEdge(EdgePair {
+            v,
+            s,
+            u,
+            may_cross,
+            crossed: None,
+        })
+    }
+
     #[test]
     fn crossed_edges_are_pulled_back_to_their_side_keeping_momentum() {
         // Edge a along x at y = 0.01 drops through edge b along z at y = 0.
@@ -300,7 +314,7 @@ mod tests {
         let inv_mass = [1.0, 2.0, 0.5, 1.0];
         let s = SelfCollision::default();
         let v = [0, 1, 2, 3];
-        let mut contact = Contact::EdgeEdge { v, crossing: None };
+        let mut contact = edge_pair(v, &x, true);
         contact.detect_crossing(&x, &x_prev);
         let d = contact
             .correction(&x, &x_prev, &inv_mass, &s)
@@ -322,10 +336,7 @@ mod tests {
         ];
         let inv_mass = [1.0; 4];
         let s = SelfCollision::default();
-        let mut contact = Contact::EdgeEdge {
-            v: [0, 1, 2, 3],
-            crossing: None,
-        };
+        let mut contact = edge_pair([0, 1, 2, 3], &x, false);
         contact.detect_crossing(&x, &x);
         let d = contact.correction(&x, &x, &inv_mass, &s).expect("near");
         let gap = (x[0] + d[0]).y - (x[2] + d[2]).y;
