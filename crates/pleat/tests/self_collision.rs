@@ -171,13 +171,11 @@ fn ends_clean(file: &str) {
 }
 
 #[test]
-#[ignore = "slow: about 50 s at 64 x 64 in the dev profile on 2 cores; run with --ignored"]
 fn fold_onto_itself_ends_without_self_intersections() {
     ends_clean("fold_onto_itself.json");
 }
 
 #[test]
-#[ignore = "slow: about 50 s at 64 x 64 in the dev profile on 2 cores; run with --ignored"]
 fn two_cloths_on_a_rotating_box_end_without_self_intersections() {
     ends_clean("two_cloths_box.json");
 }
