@@ -26,6 +26,7 @@
 
 use crate::mesh::Mesh;
 use glam::Vec3;
+use std::collections::HashMap;
 use std::f32::consts::PI;
 use std::fmt;
 
@@ -149,6 +150,125 @@ pub struct MeshCollider {
     /// In leaf order of the hierarchy.
     triangles: Vec<[u32; 3]>,
     nodes: Vec<Node>,
+    /// For a closed mesh, the pseudonormals that sign its distances.
+    pseudonormals: Option<Pseudonormals>,
+}
+
+/// Angle-weighted pseudonormals of a closed surface (Baerentzen and Aanaes
+/// 2005), unnormalised: only the sign of a dot product with them is used.
+#[derive(Clone, PartialEq)]
+struct Pseudonormals {
+    /// Per triangle, in leaf order: its unit normal, then the pseudonormals
+    /// of its edges 0, 1 and 2 (the sum of the unit normals of the two
+    /// triangles on the edge).
+    triangles: Vec<[Vec3; 4]>,
+    /// Per vertex: the unit normals of its triangles, each weighted by the
+    /// triangle's angle at the vertex.
+    vertices: Vec<Vec3>,
+}
+
+impl Pseudonormals {
+    /// The pseudonormals of `triangles` if they make closed, oriented,
+    /// manifold surfaces: no degenerate triangle, every edge used by exactly
+    /// two triangles in opposite directions, and the triangles around every
+    /// vertex a single fan. Also one triangle of each connected surface, the
+    /// largest, to check which way the surface faces. `None` otherwise.
+    fn of_closed(positions: &[Vec3], triangles: &[[u32; 3]]) -> Option<(Self, Vec<usize>)> {
+        let corners = |t: &[u32; 3]| t.map(|i| positions[i as usize]);
+        let mut faces = Vec::with_capacity(triangles.len());
+        for t in triangles {
+            let [a, b, c] = corners(t);
+            faces.push((b - a).cross(c - a).try_normalize()?);
+        }
+        // Half-edge `3 t + k` runs from corner `k` of triangle `t` to corner `k + 1`.
+        let half_edge_count = 3 * triangles.len();
+        let mut half_edges = HashMap::with_capacity(half_edge_count);
+        for (h, (t, k)) in (0..triangles.len())
+            .flat_map(|t| (0..3).map(move |k| (t, k)))
+            .enumerate()
+        {
+            let edge = (triangles[t][k], triangles[t][(k + 1) % 3]);
+            if edge.0 == edge.1 || half_edges.insert(edge, h).is_some() {
+                return None;
+            }
+        }
+        let mut twin = vec![0; half_edge_count];
+        for (&(from, to), &h) in &half_edges {
+            twin[h] = *half_edges.get(&(to, from))?;
+        }
+        // Going round a vertex: the half-edge into it in the same triangle,
+        // then that one's twin, out of it in the next triangle.
+        let turn = |h: usize| twin[3 * (h / 3) + (h + 2) % 3];
+        let mut fans = vec![false; positions.len()];
+        let mut seen = vec![false; half_edge_count];
+        for start in 0..half_edge_count {
+            if seen[start] {
+                continue;
+            }
+            let vertex = triangles[start / 3][start % 3] as usize;
+            if std::mem::replace(&mut fans[vertex], true) {
+                return None; // a second fan: the surface pinches at the vertex
+            }
+            let mut h = start;
+            while !seen[h] {
+                seen[h] = true;
+                h = turn(h);
+            }
+        }
+        let mut vertices = vec![Vec3::ZERO; positions.len()];
+        for (t, face) in triangles.iter().zip(&faces) {
+            let p = corners(t);
+            for k in 0..3 {
+                let (u, v) = (p[(k + 1) % 3] - p[k], p[(k + 2) % 3] - p[k]);
+                let angle = u.cross(v).length().atan2(u.dot(v));
+                vertices[t[k] as usize] += *face * angle;
+            }
+        }
+        let normals = Pseudonormals {
+            triangles: (0..triangles.len())
+                .map(|t| {
+                    let edge = |k: usize| faces[t] + faces[twin[3 * t + k] / 3];
+                    [faces[t], edge(0), edge(1), edge(2)]
+                })
+                .collect(),
+            vertices,
+        };
+        // Connected surfaces, by flooding across edges.
+        let area = |t: usize| {
+            let [a, b, c] = corners(&triangles[t]);
+            (b - a).cross(c - a).length()
+        };
+        let mut flooded = vec![false; triangles.len()];
+        let mut largest = Vec::new();
+        for seed in 0..triangles.len() {
+            if std::mem::replace(&mut flooded[seed], true) {
+                continue;
+            }
+            let (mut stack, mut best) = (vec![seed], seed);
+            while let Some(t) = stack.pop() {
+                if area(t) > area(best) {
+                    best = t;
+                }
+                for h in 3 * t..3 * t + 3 {
+                    let next = twin[h] / 3;
+                    if !std::mem::replace(&mut flooded[next], true) {
+                        stack.push(next);
+                    }
+                }
+            }
+            largest.push(best);
+        }
+        Some((normals, largest))
+    }
+
+    /// The pseudonormal of `feature` of triangle `t` (corners `corners`).
+    fn at(&self, t: usize, corners: &[u32; 3], feature: Feature) -> Vec3 {
+        match feature {
+            Feature::Face => self.triangles[t][0],
+            Feature::Edge(k) => self.triangles[t][1 + k],
+            Feature::Vertex(k) => self.vertices[corners[k] as usize],
+        }
+    }
 }
 
 impl fmt::Debug for MeshCollider {
@@ -157,6 +277,7 @@ impl fmt::Debug for MeshCollider {
             .field("vertices", &self.positions.len())
             .field("triangles", &self.triangles.len())
             .field("bounds", &self.bounds())
+            .field("closed", &self.is_closed())
             .finish()
     }
 }
@@ -172,6 +293,7 @@ impl MeshCollider {
             positions: mesh.positions.clone(),
             triangles: mesh.triangles.clone(),
             nodes: Vec::with_capacity(2 * mesh.triangles.len() / LEAF_SIZE + 1),
+            pseudonormals: None,
         };
         if !collider.triangles.is_empty() {
             let mut triangles = std::mem::take(&mut collider.triangles);
@@ -179,7 +301,32 @@ impl MeshCollider {
             collider.split(0, &mut triangles, 0);
             collider.triangles = triangles;
         }
+        if let Some((normals, largest)) =
+            Pseudonormals::of_closed(&collider.positions, &collider.triangles)
+        {
+            if largest.into_iter().all(|t| collider.faces_outward(t)) {
+                collider.pseudonormals = Some(normals);
+            }
+        }
         collider
+    }
+
+    /// Whether the mesh is closed (see the module documentation): its
+    /// distances are then signed by pseudonormals rather than the winding number.
+    pub fn is_closed(&self) -> bool {
+        self.pseudonormals.is_some()
+    }
+
+    /// Whether triangle `t` faces out of the volume its surface bounds: the
+    /// winding number is below one half just in front of its centroid and
+    /// above one half just behind it. Not so for a surface turned inside
+    /// out, or one inside another's volume.
+    fn faces_outward(&self, t: usize) -> bool {
+        let [a, b, c] = self.corners(&self.triangles[t]);
+        let normal = (b - a).cross(c - a);
+        let step = normal.normalize_or_zero() * 1e-3 * normal.length().sqrt();
+        let centroid = (a + b + c) / 3.0;
+        self.winding_number(centroid + step) < 0.5 && self.winding_number(centroid - step) > 0.5
     }
 
     /// The corners of every triangle, in the hierarchy's leaf order.
@@ -319,10 +466,35 @@ impl MeshCollider {
         solid_angle / (4.0 * PI)
     }
 
-    /// Whether `p` is inside: within the bounding box and a winding number
-    /// above one half.
+    /// Whether `p` is inside: within the bounding box, and behind the surface
+    /// at its closest point for a closed mesh, or with a winding number above
+    /// one half for an open one.
     pub fn contains(&self, p: Vec3) -> bool {
-        self.bounds().contains(p) && self.winding_number(p) > 0.5
+        self.bounds().contains(p)
+            && match &self.pseudonormals {
+                Some(normals) => self
+                    .closest_point(p)
+                    .is_some_and(|closest| self.behind(normals, p, closest.triangle)),
+                None => self.winding_number(p) > 0.5,
+            }
+    }
+
+    /// Whether `p`, whose closest point of the mesh is `closest`, is inside.
+    fn inside(&self, p: Vec3, closest: Closest) -> bool {
+        match &self.pseudonormals {
+            Some(normals) => self.behind(normals, p, closest.triangle),
+            None => self.bounds().contains(p) && self.winding_number(p) > 0.5,
+        }
+    }
+
+    /// Whether `p` is behind a closed surface at its closest point on
+    /// `triangle`: the sign of the direction from that point to `p` against
+    /// the pseudonormal of the face, edge or vertex the point lies on.
+    fn behind(&self, normals: &Pseudonormals, p: Vec3, triangle: usize) -> bool {
+        let t = &self.triangles[triangle];
+        let [a, b, c] = self.corners(t);
+        let (point, feature) = closest_feature_on_triangle(p, a, b, c);
+        (p - point).dot(normals.at(triangle, t, feature)) < 0.0
     }
 
     /// Signed distance (negative inside) and the outward unit normal: the
@@ -331,20 +503,32 @@ impl MeshCollider {
     /// noise). Infinitely far, facing up, without triangles.
     pub fn signed_distance(&self, p: Vec3) -> (f32, Vec3) {
         match self.closest_point(p) {
-            Some(closest) => self.signed(p, closest, self.contains(p)),
+            Some(closest) => self.signed(p, closest, self.inside(p, closest)),
             None => (f32::INFINITY, Vec3::Y),
         }
     }
 
     /// [`Self::signed_distance`] where it is below `reach`, `None` beyond:
-    /// for contacts, where the closest-point search outside the mesh stops at
-    /// `reach` (inside, the whole distance is needed to push out).
+    /// for contacts. The closest-point search stops at `reach`; only where
+    /// it finds nothing and `p` is within the bounding box does the point
+    /// need its sign on its own (deep inside, the whole distance is needed
+    /// to push out). See the module documentation.
     pub fn signed_distance_within(&self, p: Vec3, reach: f32) -> Option<(f32, Vec3)> {
-        let inside = self.contains(p);
-        let limit_squared = if inside { f32::INFINITY } else { reach * reach };
-        self.closest_point_within(p, limit_squared)
-            .map(|closest| self.signed(p, closest, inside))
-            .filter(|&(d, _)| d < reach)
+        if let Some(closest) = self.closest_point_within(p, reach * reach) {
+            return Some(self.signed(p, closest, self.inside(p, closest)))
+                .filter(|&(d, _)| d < reach);
+        }
+        if !self.bounds().contains(p) {
+            return None;
+        }
+        let closest = match &self.pseudonormals {
+            Some(normals) => self
+                .closest_point(p)
+                .filter(|closest| self.behind(normals, p, closest.triangle))?,
+            None if self.winding_number(p) > 0.5 => self.closest_point(p)?,
+            None => return None,
+        };
+        Some(self.signed(p, closest, true)).filter(|&(d, _)| d < reach)
     }
 
     /// The first triangle the segment `from`-`to` crosses, nearest `from`.
@@ -509,49 +693,74 @@ pub fn triangle_solid_angle(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> f32 {
 /// The point of triangle `abc` nearest `p`, by its Voronoi regions (Ericson
 /// 2005, 5.1.5). A degenerate triangle falls back to its nearest edge.
 pub fn closest_point_on_triangle(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
+    closest_feature_on_triangle(p, a, b, c).0
+}
+
+/// Which part of a triangle a closest point lies on: a corner, an edge
+/// (edge `k` runs from corner `k` to corner `k + 1`, modulo 3) or the inside.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Feature {
+    Vertex(usize),
+    Edge(usize),
+    Face,
+}
+
+/// [`closest_point_on_triangle`] and the feature the point lies on.
+fn closest_feature_on_triangle(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> (Vec3, Feature) {
     let (ab, ac, ap) = (b - a, c - a, p - a);
     let (d1, d2) = (ab.dot(ap), ac.dot(ap));
     if d1 <= 0.0 && d2 <= 0.0 {
-        return a;
+        return (a, Feature::Vertex(0));
     }
     let bp = p - b;
     let (d3, d4) = (ab.dot(bp), ac.dot(bp));
     if d3 >= 0.0 && d4 <= d3 {
-        return b;
+        return (b, Feature::Vertex(1));
     }
     let vc = d1 * d4 - d3 * d2;
     if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
-        return a + ab * (d1 / (d1 - d3));
+        return (a + ab * (d1 / (d1 - d3)), Feature::Edge(0));
     }
     let cp = p - c;
     let (d5, d6) = (ab.dot(cp), ac.dot(cp));
     if d6 >= 0.0 && d5 <= d6 {
-        return c;
+        return (c, Feature::Vertex(2));
     }
     let vb = d5 * d2 - d1 * d6;
     if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
-        return a + ac * (d2 / (d2 - d6));
+        return (a + ac * (d2 / (d2 - d6)), Feature::Edge(2));
     }
     let va = d3 * d6 - d5 * d4;
     if va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 {
-        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+        return (
+            b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))),
+            Feature::Edge(1),
+        );
     }
     let sum = va + vb + vc;
     if sum <= 0.0 || !sum.is_finite() {
         return nearest_edge_point(p, [a, b, c]);
     }
-    a + ab * (vb / sum) + ac * (vc / sum)
+    (a + ab * (vb / sum) + ac * (vc / sum), Feature::Face)
 }
 
-/// The point nearest `p` on the three edges of a (degenerate) triangle.
-fn nearest_edge_point(p: Vec3, [a, b, c]: [Vec3; 3]) -> Vec3 {
-    [(a, b), (b, c), (c, a)]
-        .map(|(s, e)| {
+/// The point nearest `p` on the three edges of a (degenerate) triangle, and
+/// that edge, or its corner where the point is one.
+fn nearest_edge_point(p: Vec3, corners: [Vec3; 3]) -> (Vec3, Feature) {
+    (0..3)
+        .map(|k| {
+            let (s, e) = (corners[k], corners[(k + 1) % 3]);
             let d = e - s;
             let t = ((p - s).dot(d) / d.length_squared().max(f32::MIN_POSITIVE)).clamp(0.0, 1.0);
-            s + d * t
+            let feature = if t == 0.0 {
+                Feature::Vertex(k)
+            } else if t == 1.0 {
+                Feature::Vertex((k + 1) % 3)
+            } else {
+                Feature::Edge(k)
+            };
+            (s + d * t, feature)
         })
-        .into_iter()
-        .min_by(|x, y| x.distance_squared(p).total_cmp(&y.distance_squared(p)))
-        .unwrap_or(a)
+        .min_by(|x, y| x.0.distance_squared(p).total_cmp(&y.0.distance_squared(p)))
+        .unwrap_or((corners[0], Feature::Vertex(0)))
 }
