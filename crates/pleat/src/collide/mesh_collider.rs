@@ -249,8 +249,8 @@ impl Pseudonormals {
                 if area(t) > area(best) {
                     best = t;
                 }
-                for h in 3 * t..3 * t + 3 {
-                    let next = twin[h] / 3;
+                for &h in &twin[3 * t..3 * t + 3] {
+                    let next = h / 3;
                     if !std::mem::replace(&mut flooded[next], true) {
                         stack.push(next);
                     }
