@@ -38,6 +38,10 @@ const FAR_FIELD: f32 = 2.0;
 const ON_SURFACE: f32 = 1e-6;
 /// Deeper than any median-split hierarchy of `u32` triangles needs.
 const STACK_DEPTH: usize = 64;
+/// Cells of the outside grid of a closed mesh, per triangle and at most.
+const CELLS_PER_TRIANGLE: usize = 64;
+const MIN_CELLS: usize = 1 << 12;
+const MAX_CELLS: usize = 1 << 18;
 
 /// A closed axis-aligned box.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -152,6 +156,110 @@ pub struct MeshCollider {
     nodes: Vec<Node>,
     /// For a closed mesh, the pseudonormals that sign its distances.
     pseudonormals: Option<Pseudonormals>,
+    /// For a closed mesh, the cells of its box that are certainly outside.
+    outside: Option<OutsideCells>,
+}
+
+/// A grid over a closed mesh's bounding box that marks the cells certainly
+/// outside the mesh: those no triangle's box touches, joined through such
+/// cells to the grid's border. The winding number of a closed mesh is an
+/// integer, so it is constant on every connected region the surface does
+/// not cross; on the flooded cells it is that of the space beyond the box,
+/// zero. Cavities and the inside stay unmarked (unknown).
+#[derive(Clone, PartialEq)]
+struct OutsideCells {
+    origin: Vec3,
+    inverse_cell: f32,
+    dims: [usize; 3],
+    outside: Vec<bool>,
+}
+
+impl OutsideCells {
+    /// Cells of about equal size, at most `CELLS_PER_TRIANGLE` per triangle
+    /// (`MIN_CELLS` to `MAX_CELLS`): the flood is `O(cells)`, the marking
+    /// about `O(triangles)` for triangles no larger than a cell.
+    fn new(bounds: Aabb, triangles: impl Iterator<Item = [Vec3; 3]>, count: usize) -> Self {
+        let size = bounds.max - bounds.min;
+        let budget = (count * CELLS_PER_TRIANGLE).clamp(MIN_CELLS, MAX_CELLS) as f32;
+        let thick = size.max(Vec3::splat(size.max_element() * 1e-3));
+        let cell = (thick.x * thick.y * thick.z / budget).cbrt();
+        let dims = (size / cell)
+            .ceil()
+            .max(Vec3::ONE)
+            .to_array()
+            .map(|n| n as usize);
+        let mut grid = OutsideCells {
+            origin: bounds.min,
+            inverse_cell: 1.0 / cell,
+            dims,
+            outside: vec![false; dims.iter().product()],
+        };
+        // Padding beyond the rounding of coordinates and of cell indices.
+        let pad =
+            cell * 1e-3 + 8.0 * f32::EPSILON * bounds.min.abs().max(bounds.max.abs()).max_element();
+        let mut surface = vec![false; grid.outside.len()];
+        for corners in triangles {
+            let b = Aabb::of_points(corners);
+            let [lo, hi] = [b.min - pad, b.max + pad].map(|q| grid.cell_of(q));
+            for k in lo[2]..=hi[2] {
+                for j in lo[1]..=hi[1] {
+                    for i in lo[0]..=hi[0] {
+                        surface[grid.index([i, j, k])] = true;
+                    }
+                }
+            }
+        }
+        // Flood through faces from every free cell on the border.
+        let [nx, ny, nz] = dims;
+        let mut queue = Vec::new();
+        for k in 0..nz {
+            for j in 0..ny {
+                for i in 0..nx {
+                    let border =
+                        i == 0 || j == 0 || k == 0 || i == nx - 1 || j == ny - 1 || k == nz - 1;
+                    let index = grid.index([i, j, k]);
+                    if border && !surface[index] {
+                        grid.outside[index] = true;
+                        queue.push([i, j, k]);
+                    }
+                }
+            }
+        }
+        while let Some(c) = queue.pop() {
+            for axis in 0..3 {
+                for next in [c[axis].wrapping_sub(1), c[axis] + 1] {
+                    if next >= dims[axis] {
+                        continue;
+                    }
+                    let mut n = c;
+                    n[axis] = next;
+                    let index = grid.index(n);
+                    if !surface[index] && !grid.outside[index] {
+                        grid.outside[index] = true;
+                        queue.push(n);
+                    }
+                }
+            }
+        }
+        grid
+    }
+
+    fn index(&self, [i, j, k]: [usize; 3]) -> usize {
+        i + self.dims[0] * (j + self.dims[1] * k)
+    }
+
+    /// The cell holding `p`, clamped to the grid.
+    fn cell_of(&self, p: Vec3) -> [usize; 3] {
+        let g = ((p - self.origin) * self.inverse_cell)
+            .floor()
+            .max(Vec3::ZERO);
+        [0, 1, 2].map(|axis| (g[axis] as usize).min(self.dims[axis] - 1))
+    }
+
+    /// Whether `p`, within the grid's box, is certainly outside the mesh.
+    fn outside(&self, p: Vec3) -> bool {
+        self.outside[self.index(self.cell_of(p))]
+    }
 }
 
 /// Angle-weighted pseudonormals of a closed surface (Baerentzen and Aanaes
@@ -294,6 +402,7 @@ impl MeshCollider {
             triangles: mesh.triangles.clone(),
             nodes: Vec::with_capacity(2 * mesh.triangles.len() / LEAF_SIZE + 1),
             pseudonormals: None,
+            outside: None,
         };
         if !collider.triangles.is_empty() {
             let mut triangles = std::mem::take(&mut collider.triangles);
@@ -306,6 +415,11 @@ impl MeshCollider {
         {
             if largest.into_iter().all(|t| collider.faces_outward(t)) {
                 collider.pseudonormals = Some(normals);
+                collider.outside = Some(OutsideCells::new(
+                    collider.bounds(),
+                    collider.triangles(),
+                    collider.triangles.len(),
+                ));
             }
         }
         collider
@@ -471,6 +585,7 @@ impl MeshCollider {
     /// one half for an open one.
     pub fn contains(&self, p: Vec3) -> bool {
         self.bounds().contains(p)
+            && !self.outside.as_ref().is_some_and(|o| o.outside(p))
             && match &self.pseudonormals {
                 Some(normals) => self
                     .closest_point(p)
@@ -518,7 +633,7 @@ impl MeshCollider {
             return Some(self.signed(p, closest, self.inside(p, closest)))
                 .filter(|&(d, _)| d < reach);
         }
-        if !self.bounds().contains(p) {
+        if !self.bounds().contains(p) || self.outside.as_ref().is_some_and(|o| o.outside(p)) {
             return None;
         }
         let closest = match &self.pseudonormals {
