@@ -166,12 +166,21 @@ pub struct MeshCollider {
 /// integer, so it is constant on every connected region the surface does
 /// not cross; on the flooded cells it is that of the space beyond the box,
 /// zero. Cavities and the inside stay unmarked (unknown).
+///
+/// A marked cell also keeps its clearance: how many cells away, along the
+/// axis where they are farthest apart (the Chebyshev distance of their
+/// indices), the nearest touched cell is. Every point of the surface lies in
+/// a touched cell, so no point of the surface is nearer a point of the cell
+/// than `(clearance - 1) * cell`.
 #[derive(Clone, PartialEq)]
 struct OutsideCells {
     origin: Vec3,
+    cell: f32,
     inverse_cell: f32,
     dims: [usize; 3],
-    outside: Vec<bool>,
+    /// Per cell: 0 where it may be inside (or touched), else its clearance
+    /// (at most 255).
+    clearance: Vec<u8>,
 }
 
 impl OutsideCells {
@@ -190,14 +199,15 @@ impl OutsideCells {
             .map(|n| n as usize);
         let mut grid = OutsideCells {
             origin: bounds.min,
+            cell,
             inverse_cell: 1.0 / cell,
             dims,
-            outside: vec![false; dims.iter().product()],
+            clearance: vec![0; dims.iter().product()],
         };
         // Padding beyond the rounding of coordinates and of cell indices.
         let pad =
             cell * 1e-3 + 8.0 * f32::EPSILON * bounds.min.abs().max(bounds.max.abs()).max_element();
-        let mut surface = vec![false; grid.outside.len()];
+        let mut surface = vec![false; grid.clearance.len()];
         for corners in triangles {
             let b = Aabb::of_points(corners);
             let [lo, hi] = [b.min - pad, b.max + pad].map(|q| grid.cell_of(q));
@@ -211,34 +221,65 @@ impl OutsideCells {
         }
         // Flood through faces from every free cell on the border.
         let [nx, ny, nz] = dims;
-        let mut queue = Vec::new();
-        for k in 0..nz {
-            for j in 0..ny {
-                for i in 0..nx {
-                    let border =
-                        i == 0 || j == 0 || k == 0 || i == nx - 1 || j == ny - 1 || k == nz - 1;
-                    let index = grid.index([i, j, k]);
-                    if border && !surface[index] {
-                        grid.outside[index] = true;
-                        queue.push([i, j, k]);
+        let cells = (0..nz)
+            .flat_map(|k| (0..ny).flat_map(move |j| (0..nx).map(move |i| [i, j, k])))
+            .collect::<Vec<_>>();
+        let border = |[i, j, k]: [usize; 3]| {
+            i == 0 || j == 0 || k == 0 || i == nx - 1 || j == ny - 1 || k == nz - 1
+        };
+        let mut outside = vec![false; surface.len()];
+        let mut stack = Vec::new();
+        for &c in cells.iter().filter(|&&c| border(c)) {
+            if !surface[grid.index(c)] {
+                outside[grid.index(c)] = true;
+                stack.push(c);
+            }
+        }
+        while let Some(c) = stack.pop() {
+            for axis in 0..3 {
+                for next in [c[axis].wrapping_sub(1), c[axis] + 1] {
+                    let mut n = c;
+                    n[axis] = next;
+                    if next < dims[axis] && !surface[grid.index(n)] && !outside[grid.index(n)] {
+                        outside[grid.index(n)] = true;
+                        stack.push(n);
                     }
                 }
             }
         }
-        while let Some(c) = queue.pop() {
-            for axis in 0..3 {
-                for next in [c[axis].wrapping_sub(1), c[axis] + 1] {
-                    if next >= dims[axis] {
-                        continue;
-                    }
-                    let mut n = c;
-                    n[axis] = next;
-                    let index = grid.index(n);
-                    if !surface[index] && !grid.outside[index] {
-                        grid.outside[index] = true;
-                        queue.push(n);
+        // Clearances, breadth first from the touched cells over all 26 neighbours.
+        let mut distance = vec![u8::MAX; surface.len()];
+        let mut layer: Vec<_> = cells
+            .into_iter()
+            .filter(|&c| surface[grid.index(c)])
+            .collect();
+        layer.iter().for_each(|&c| distance[grid.index(c)] = 0);
+        for d in 1..u8::MAX {
+            let mut next_layer = Vec::new();
+            for c in layer {
+                let lo = c.map(|x| x.saturating_sub(1));
+                let hi = [0, 1, 2].map(|axis| (c[axis] + 1).min(dims[axis] - 1));
+                for k in lo[2]..=hi[2] {
+                    for j in lo[1]..=hi[1] {
+                        for i in lo[0]..=hi[0] {
+                            let index = grid.index([i, j, k]);
+                            if distance[index] == u8::MAX {
+                                distance[index] = d;
+                                next_layer.push([i, j, k]);
+                            }
+                        }
                     }
                 }
+            }
+            if next_layer.is_empty() {
+                break;
+            }
+            layer = next_layer;
+        }
+        for ((clearance, outside), distance) in grid.clearance.iter_mut().zip(outside).zip(distance)
+        {
+            if outside {
+                *clearance = distance;
             }
         }
         grid
@@ -258,7 +299,14 @@ impl OutsideCells {
 
     /// Whether `p`, within the grid's box, is certainly outside the mesh.
     fn outside(&self, p: Vec3) -> bool {
-        self.outside[self.index(self.cell_of(p))]
+        self.clearance[self.index(self.cell_of(p))] > 0
+    }
+
+    /// Whether `p`, within the grid's box, is certainly outside the mesh and
+    /// at least `reach` from its surface.
+    fn outside_beyond(&self, p: Vec3, reach: f32) -> bool {
+        let clearance = self.clearance[self.index(self.cell_of(p))];
+        clearance > 0 && f32::from(clearance - 1) * self.cell >= reach
     }
 }
 
@@ -629,11 +677,17 @@ impl MeshCollider {
     /// need its sign on its own (deep inside, the whole distance is needed
     /// to push out). See the module documentation.
     pub fn signed_distance_within(&self, p: Vec3, reach: f32) -> Option<(f32, Vec3)> {
+        let bounds = self.bounds();
+        if let Some(outside) = &self.outside {
+            if bounds.contains(p) && outside.outside_beyond(p, reach) {
+                return None;
+            }
+        }
         if let Some(closest) = self.closest_point_within(p, reach * reach) {
             return Some(self.signed(p, closest, self.inside(p, closest)))
                 .filter(|&(d, _)| d < reach);
         }
-        if !self.bounds().contains(p) || self.outside.as_ref().is_some_and(|o| o.outside(p)) {
+        if !bounds.contains(p) || self.outside.as_ref().is_some_and(|o| o.outside(p)) {
             return None;
         }
         let closest = match &self.pseudonormals {
