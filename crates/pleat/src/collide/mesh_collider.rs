@@ -1,20 +1,60 @@
 //! Triangle-mesh colliders: a bounding volume hierarchy over the triangles
 //! (median split on the longest axis of the centroids, a flat node array),
 //! the exact closest point on the mesh (Ericson, *Real-Time Collision
-//! Detection*, 5.1.5) and the inside/outside sign from the generalized
-//! winding number (Jacobson et al. 2013), so that open meshes such as the
-//! Utah teapot still get a sensible sign.
+//! Detection*, 5.1.5) and the inside/outside sign.
 //!
-//! Costs, for `n` triangles: the closest point is a best-first descent of the
-//! hierarchy, about `O(log n)` boxes and triangles for a point near the mesh.
-//! The winding number is the fast, first-order evaluation of Barill et al.
-//! 2018: a node seen from farther than `FAR_FIELD` times its radius adds the
-//! solid angle of its area-weighted normal (a dipole) instead of its
-//! triangles, so a query visits about `O(log n)` nodes plus the triangles
-//! near the point; [`winding_number_brute_force`] sums every triangle's exact
-//! solid angle (`O(n)`) for checks. Points outside the mesh's bounding box
-//! are outside without a winding number: exact for closed meshes, and the
-//! convention for open ones.
+//! The sign depends on whether the mesh is closed, which is decided when the
+//! collider is built: no degenerate triangle, every edge used by exactly two
+//! triangles in opposite directions, the triangles around every vertex one
+//! fan (no pinched vertex), and every connected surface facing outward (the
+//! winding number just in front of its largest triangle is 0 and just behind
+//! it 1; this refuses inside-out meshes and a surface nested in another's
+//! volume, and accepts a cavity's inward surface).
+//!
+//! - Closed meshes take the sign from the closest point, by the
+//!   angle-weighted pseudonormals of Baerentzen and Aanaes 2005: the face
+//!   normal where the closest point is inside a triangle, the sum of the two
+//!   face normals on an edge, the angle-weighted sum of the face normals at a
+//!   vertex; `p` is inside if it is behind that pseudonormal. This is exact
+//!   for a closed, manifold surface that does not cross itself (self
+//!   crossings are not detected here; scenes refuse generated meshes that
+//!   cross themselves), and costs nothing beyond the closest point.
+//! - Open meshes, such as the Utah teapot, keep the generalized winding
+//!   number (Jacobson et al. 2013), in the fast, first-order evaluation of
+//!   Barill et al. 2018: a node seen from farther than `FAR_FIELD` times its
+//!   radius adds the solid angle of its area-weighted normal (a dipole)
+//!   instead of its triangles, so a query visits about `O(log n)` nodes plus
+//!   the triangles near the point; [`winding_number_brute_force`] sums every
+//!   triangle's exact solid angle (`O(n)`) for checks. Inside above one half.
+//!
+//! Points outside the mesh's bounding box are outside without either:
+//! exact for closed meshes, and the convention for open ones.
+//!
+//! Contacts ask [`MeshCollider::signed_distance_within`]: the signed distance
+//! only where it is below a `reach` (the cloth's thickness). Most particles
+//! are farther than that, and the whole cost used to be their sign. The
+//! query, in order:
+//! 1. For a closed mesh, a grid over its box (`OutsideCells`, built with
+//!    the collider) marks cells that are certainly outside (no triangle's box
+//!    touches them and they join the box's border through such cells; the
+//!    winding number of a closed mesh is constant off its surface, zero
+//!    there), each with its clearance from the surface in cells: a point in
+//!    a cell outside and clear by at least `reach` is answered at once.
+//! 2. The closest point within `reach`, by a descent that prunes every box
+//!    farther than `reach`: cheap for a point far from the surface. If there
+//!    is one, it is signed (pseudonormal, or winding number for an open mesh).
+//! 3. Nothing within reach: outside the bounding box, or in a cell certainly
+//!    outside, the point is outside. Otherwise it may be deep inside, where
+//!    the contact needs the whole distance to push it out, so a closed mesh
+//!    finds the unbounded closest point and signs it (the point is outside
+//!    if it is in front), and an open mesh evaluates the winding number
+//!    first and searches only inside. A parity ray would be cheaper than the
+//!    unbounded search but fragile at edges and vertices; the grid leaves the
+//!    search to points in the thin band of cells the surface touches, inside,
+//!    or in cavities.
+//!
+//! [`MeshCollider::signed_distance`] and [`MeshCollider::contains`] sign the
+//! same way, so a baked [`crate::collide::SdfGrid`] does too.
 //!
 //! Swept queries keep fast particles from tunnelling through thin meshes:
 //! [`MeshCollider::first_hit`] finds where the segment from a particle's
