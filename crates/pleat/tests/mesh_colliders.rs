@@ -166,21 +166,235 @@ fn mesh_collider_signed_distance_equals_brute_force() {
 
 #[test]
 fn contact_query_stops_at_its_reach() {
-    let bunny = shipped_mesh("bunny.obj", 0.05);
-    let mut near = 0;
-    for p in random_points(bunny.bounds(), 0.1, 3000) {
-        let (d, n) = bunny.signed_distance(p);
-        for reach in [0.0, 0.005, 0.02] {
-            match bunny.signed_distance_within(p, reach) {
-                Some(within) => {
-                    assert_eq!(within, (d, n), "at {p}, reach {reach}");
-                    near += 1;
+    // Closed meshes (signed by pseudonormals) and the open teapot (by the
+    // winding number), at its size of about 6 m and scaled to the bunny's.
+    for mesh in [
+        shipped_mesh("bunny.obj", 0.05),
+        MeshCollider::new(&test_knot().mesh()),
+        shipped_mesh("teapot.obj", 1.0),
+        shipped_mesh("teapot.obj", 0.03),
+    ] {
+        let size = (mesh.bounds().max - mesh.bounds().min).max_element();
+        let (mut near, mut inside) = (0, 0);
+        for p in random_points(mesh.bounds(), 0.1 * size, 3000) {
+            let (d, n) = mesh.signed_distance(p);
+            inside += usize::from(d < 0.0);
+            for reach in [0.0, 0.005, 0.02].map(|r| r * size / 0.15) {
+                match mesh.signed_distance_within(p, reach) {
+                    Some(within) => {
+                        assert_eq!(within, (d, n), "{mesh:?} at {p}, reach {reach}");
+                        near += 1;
+                    }
+                    None => assert!(d >= reach, "{mesh:?} at {p}: {d} is within {reach}"),
                 }
-                None => assert!(d >= reach, "at {p}: {d} is within {reach}"),
+            }
+        }
+        println!("{mesh:?}: {inside} of 3000 points inside, {near} queries within reach");
+        assert!(near > 100, "only {near} queries within reach");
+        assert!(inside > 20, "only {inside} points inside");
+    }
+}
+
+/// The trefoil of the swept tests, smaller than the shipped scene's.
+fn test_knot() -> TorusKnot {
+    TorusKnot {
+        center: Vec3::new(0.1, 0.2, -0.1),
+        rotation: Quat::from_rotation_x(0.4),
+        radius: 0.3,
+        tube: 0.06,
+        p: 2,
+        q: 3,
+        segments: 96,
+        sides: 12,
+    }
+}
+
+/// A generator of numbers in `[0, 1)` from a fixed seed.
+struct Numbers(u32);
+
+impl Numbers {
+    fn next(&mut self) -> f32 {
+        self.0 = self.0.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        (self.0 >> 8) as f32 / (1 << 24) as f32
+    }
+
+    fn direction(&mut self) -> Vec3 {
+        loop {
+            let v = Vec3::new(self.next(), self.next(), self.next()) * 2.0 - Vec3::ONE;
+            if (0.01..=1.0).contains(&v.length_squared()) {
+                return v.normalize();
             }
         }
     }
-    assert!(near > 100, "only {near} queries within reach");
+}
+
+/// Points a little off the surface in random directions, from `1e-5` to
+/// `3e-2` of the mesh's size: a third off corners, a third off edges and a
+/// third off the insides of triangles, so that the closest feature is every
+/// kind of vertex, edge and face, on convex and concave parts alike.
+fn points_near_the_surface(mesh: &MeshCollider, count: usize, seed: u32) -> Vec<Vec3> {
+    let triangles: Vec<_> = mesh.triangles().collect();
+    let size = (mesh.bounds().max - mesh.bounds().min).max_element();
+    let mut numbers = Numbers(seed);
+    (0..count)
+        .map(|i| {
+            let t = ((numbers.next() * triangles.len() as f32) as usize).min(triangles.len() - 1);
+            let [a, b, c] = triangles[t];
+            let on = match i % 3 {
+                0 => [a, b, c][i / 3 % 3],
+                1 => a.lerp(b, numbers.next()),
+                _ => {
+                    let (u, v) = (numbers.next(), numbers.next());
+                    let (u, v) = if u + v > 1.0 {
+                        (1.0 - u, 1.0 - v)
+                    } else {
+                        (u, v)
+                    };
+                    a + (b - a) * u + (c - a) * v
+                }
+            };
+            let offset = [1e-5, 1e-4, 1e-3, 3e-3, 3e-2][i / 9 % 5] * size;
+            on + numbers.direction() * offset * (0.5 + numbers.next())
+        })
+        .collect()
+}
+
+/// The inside/outside answers of `mesh` (signed distance, contains and the
+/// contact query) against the exact winding number over every triangle, at
+/// every point not within rounding of the surface. Returns the points inside.
+fn check_sign_against_winding_number(mesh: &MeshCollider, points: &[Vec3]) -> usize {
+    let size = (mesh.bounds().max - mesh.bounds().min).max_element();
+    let mut inside = 0;
+    for &p in points {
+        let distance = brute_force_distance(mesh, p);
+        if distance <= 4e-6 * (1.0 + p.abs().max_element()) {
+            continue; // on the surface, within rounding: either side is right
+        }
+        let w = winding_number_brute_force(mesh.triangles(), p);
+        assert!(
+            (w - w.round()).abs() < 0.02,
+            "{mesh:?}: winding number {w} at {p}"
+        );
+        let expected = w > 0.5;
+        inside += usize::from(expected);
+        let (d, _) = mesh.signed_distance(p);
+        assert_eq!(
+            d < 0.0,
+            expected,
+            "{mesh:?} at {p}, {distance} from the surface: {d}, winding number {w}"
+        );
+        assert_eq!(mesh.contains(p), expected, "{mesh:?} contains {p}");
+        for reach in [0.0, 1e-3 * size, 0.05 * size] {
+            match mesh.signed_distance_within(p, reach) {
+                Some((d, _)) => assert_eq!(d < 0.0, expected, "{mesh:?} at {p} within {reach}"),
+                None => assert!(!expected, "{mesh:?}: {p} is inside, none within {reach}"),
+            }
+        }
+    }
+    inside
+}
+
+#[test]
+fn closed_meshes_are_signed_like_the_winding_number() {
+    let sphere = Icosphere {
+        center: Vec3::new(0.02, 0.0, -0.03),
+        radius: 0.3,
+        subdivisions: 3,
+    };
+    for mesh in [
+        shipped_mesh("bunny.obj", 0.05),
+        MeshCollider::new(&sphere.mesh()),
+        MeshCollider::new(&test_knot().mesh()),
+        MeshCollider::new(&uv_sphere(0.3, 24, 48)),
+        MeshCollider::new(&hollow_box()),
+    ] {
+        assert!(mesh.is_closed(), "{mesh:?}");
+        let size = (mesh.bounds().max - mesh.bounds().min).max_element();
+        let mut points = points_near_the_surface(&mesh, 3000, 7);
+        points.extend(random_points(mesh.bounds(), 0.1 * size, 1500));
+        let inside = check_sign_against_winding_number(&mesh, &points);
+        println!("{mesh:?}: {inside} of {} points inside", points.len());
+        assert!(inside > 800, "only {inside} points inside");
+    }
+}
+
+/// A 0.4 m box with a 0.2 m cavity: an outward surface and an inward one.
+fn hollow_box() -> Mesh {
+    let mut mesh = box_mesh(Vec3::splat(-0.2), Vec3::splat(0.2));
+    let mut cavity = box_mesh(Vec3::splat(-0.1), Vec3::splat(0.1));
+    for t in &mut cavity.triangles {
+        *t = [t[0] + 8, t[2] + 8, t[1] + 8];
+    }
+    mesh.positions.extend(cavity.positions);
+    mesh.triangles.extend(cavity.triangles);
+    mesh
+}
+
+#[test]
+fn closedness_is_detected_when_the_collider_is_built() {
+    let unit = box_mesh(Vec3::ZERO, Vec3::ONE);
+    let shifted = |mesh: &Mesh, by: Vec3| Mesh {
+        positions: mesh.positions.iter().map(|p| *p + by).collect(),
+        ..mesh.clone()
+    };
+    let join = |a: &Mesh, b: &Mesh| {
+        let mut joined = a.clone();
+        let n = a.positions.len() as u32;
+        joined.positions.extend(&b.positions);
+        joined
+            .triangles
+            .extend(b.triangles.iter().map(|t| t.map(|i| i + n)));
+        joined
+    };
+    let mut inside_out = unit.clone();
+    inside_out.triangles.iter_mut().for_each(|t| t.swap(1, 2));
+    let mut open = unit.clone();
+    open.triangles.pop();
+    let mut flipped_one = unit.clone();
+    flipped_one.triangles[0].swap(1, 2);
+    // Two boxes that share their corner vertex: a pinched surface.
+    let mut pinched = join(&unit, &shifted(&unit, Vec3::ONE));
+    // Corner 0 of the second box is corner 7 of the first (vertex 8 is left unused).
+    pinched
+        .triangles
+        .iter_mut()
+        .flatten()
+        .filter(|i| **i == 8)
+        .for_each(|i| *i = 7);
+    let mut degenerate = unit.clone();
+    degenerate.positions[7] = degenerate.positions[3];
+    let nested = join(
+        &unit,
+        &shifted(&box_mesh(Vec3::ZERO, Vec3::splat(0.5)), Vec3::splat(0.25)),
+    );
+    let apart = join(&unit, &shifted(&unit, Vec3::splat(3.0)));
+    for (name, mesh, closed) in [
+        ("box", unit.clone(), true),
+        ("two boxes apart", apart, true),
+        ("hollow box", hollow_box(), true),
+        (
+            "icosphere",
+            Icosphere {
+                center: Vec3::ZERO,
+                radius: 1.0,
+                subdivisions: 2,
+            }
+            .mesh(),
+            true,
+        ),
+        ("torus knot", test_knot().mesh(), true),
+        ("inside-out box", inside_out, false),
+        ("box missing a triangle", open, false),
+        ("box with a flipped triangle", flipped_one, false),
+        ("boxes sharing a corner", pinched, false),
+        ("box with a collapsed edge", degenerate, false),
+        ("box inside a box", nested, false),
+        ("plate", plate(0.0), false),
+    ] {
+        assert_eq!(MeshCollider::new(&mesh).is_closed(), closed, "{name}");
+    }
+    assert!(shipped_mesh("bunny.obj", 1.0).is_closed());
+    assert!(!shipped_mesh("teapot.obj", 1.0).is_closed());
 }
 
 #[test]

@@ -1,20 +1,60 @@
 //! Triangle-mesh colliders: a bounding volume hierarchy over the triangles
 //! (median split on the longest axis of the centroids, a flat node array),
 //! the exact closest point on the mesh (Ericson, *Real-Time Collision
-//! Detection*, 5.1.5) and the inside/outside sign from the generalized
-//! winding number (Jacobson et al. 2013), so that open meshes such as the
-//! Utah teapot still get a sensible sign.
+//! Detection*, 5.1.5) and the inside/outside sign.
 //!
-//! Costs, for `n` triangles: the closest point is a best-first descent of the
-//! hierarchy, about `O(log n)` boxes and triangles for a point near the mesh.
-//! The winding number is the fast, first-order evaluation of Barill et al.
-//! 2018: a node seen from farther than `FAR_FIELD` times its radius adds the
-//! solid angle of its area-weighted normal (a dipole) instead of its
-//! triangles, so a query visits about `O(log n)` nodes plus the triangles
-//! near the point; [`winding_number_brute_force`] sums every triangle's exact
-//! solid angle (`O(n)`) for checks. Points outside the mesh's bounding box
-//! are outside without a winding number: exact for closed meshes, and the
-//! convention for open ones.
+//! The sign depends on whether the mesh is closed, which is decided when the
+//! collider is built: no degenerate triangle, every edge used by exactly two
+//! triangles in opposite directions, the triangles around every vertex one
+//! fan (no pinched vertex), and every connected surface facing outward (the
+//! winding number just in front of its largest triangle is 0 and just behind
+//! it 1; this refuses inside-out meshes and a surface nested in another's
+//! volume, and accepts a cavity's inward surface).
+//!
+//! - Closed meshes take the sign from the closest point, by the
+//!   angle-weighted pseudonormals of Baerentzen and Aanaes 2005: the face
+//!   normal where the closest point is inside a triangle, the sum of the two
+//!   face normals on an edge, the angle-weighted sum of the face normals at a
+//!   vertex; `p` is inside if it is behind that pseudonormal. This is exact
+//!   for a closed, manifold surface that does not cross itself (self
+//!   crossings are not detected here; scenes refuse generated meshes that
+//!   cross themselves), and costs nothing beyond the closest point.
+//! - Open meshes, such as the Utah teapot, keep the generalized winding
+//!   number (Jacobson et al. 2013), in the fast, first-order evaluation of
+//!   Barill et al. 2018: a node seen from farther than `FAR_FIELD` times its
+//!   radius adds the solid angle of its area-weighted normal (a dipole)
+//!   instead of its triangles, so a query visits about `O(log n)` nodes plus
+//!   the triangles near the point; [`winding_number_brute_force`] sums every
+//!   triangle's exact solid angle (`O(n)`) for checks. Inside above one half.
+//!
+//! Points outside the mesh's bounding box are outside without either:
+//! exact for closed meshes, and the convention for open ones.
+//!
+//! Contacts ask [`MeshCollider::signed_distance_within`]: the signed distance
+//! only where it is below a `reach` (the cloth's thickness). Most particles
+//! are farther than that, and the whole cost used to be their sign. The
+//! query, in order:
+//! 1. For a closed mesh, a grid over its box (`OutsideCells`, built with
+//!    the collider) marks cells that are certainly outside (no triangle's box
+//!    touches them and they join the box's border through such cells; the
+//!    winding number of a closed mesh is constant off its surface, zero
+//!    there), each with its clearance from the surface in cells: a point in
+//!    a cell outside and clear by at least `reach` is answered at once.
+//! 2. The closest point within `reach`, by a descent that prunes every box
+//!    farther than `reach`: cheap for a point far from the surface. If there
+//!    is one, it is signed (pseudonormal, or winding number for an open mesh).
+//! 3. Nothing within reach: outside the bounding box, or in a cell certainly
+//!    outside, the point is outside. Otherwise it may be deep inside, where
+//!    the contact needs the whole distance to push it out, so a closed mesh
+//!    finds the unbounded closest point and signs it (the point is outside
+//!    if it is in front), and an open mesh evaluates the winding number
+//!    first and searches only inside. A parity ray would be cheaper than the
+//!    unbounded search but fragile at edges and vertices; the grid leaves the
+//!    search to points in the thin band of cells the surface touches, inside,
+//!    or in cavities.
+//!
+//! [`MeshCollider::signed_distance`] and [`MeshCollider::contains`] sign the
+//! same way, so a baked [`crate::collide::SdfGrid`] does too.
 //!
 //! Swept queries keep fast particles from tunnelling through thin meshes:
 //! [`MeshCollider::first_hit`] finds where the segment from a particle's
@@ -26,6 +66,7 @@
 
 use crate::mesh::Mesh;
 use glam::Vec3;
+use std::collections::HashMap;
 use std::f32::consts::PI;
 use std::fmt;
 
@@ -37,6 +78,10 @@ const FAR_FIELD: f32 = 2.0;
 const ON_SURFACE: f32 = 1e-6;
 /// Deeper than any median-split hierarchy of `u32` triangles needs.
 const STACK_DEPTH: usize = 64;
+/// Cells of the outside grid of a closed mesh, per triangle and at most.
+const CELLS_PER_TRIANGLE: usize = 64;
+const MIN_CELLS: usize = 1 << 12;
+const MAX_CELLS: usize = 1 << 18;
 
 /// A closed axis-aligned box.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -149,6 +194,277 @@ pub struct MeshCollider {
     /// In leaf order of the hierarchy.
     triangles: Vec<[u32; 3]>,
     nodes: Vec<Node>,
+    /// For a closed mesh, the pseudonormals that sign its distances.
+    pseudonormals: Option<Pseudonormals>,
+    /// For a closed mesh, the cells of its box that are certainly outside.
+    outside: Option<OutsideCells>,
+}
+
+/// A grid over a closed mesh's bounding box that marks the cells certainly
+/// outside the mesh: those no triangle's box touches, joined through such
+/// cells to the grid's border. The winding number of a closed mesh is an
+/// integer, so it is constant on every connected region the surface does
+/// not cross; on the flooded cells it is that of the space beyond the box,
+/// zero. Cavities and the inside stay unmarked (unknown).
+///
+/// A marked cell also keeps its clearance: how many cells away, along the
+/// axis where they are farthest apart (the Chebyshev distance of their
+/// indices), the nearest touched cell is. Every point of the surface lies in
+/// a touched cell, so no point of the surface is nearer a point of the cell
+/// than `(clearance - 1) * cell`.
+#[derive(Clone, PartialEq)]
+struct OutsideCells {
+    origin: Vec3,
+    cell: f32,
+    inverse_cell: f32,
+    dims: [usize; 3],
+    /// Per cell: 0 where it may be inside (or touched), else its clearance
+    /// (at most 255).
+    clearance: Vec<u8>,
+}
+
+impl OutsideCells {
+    /// Cells of about equal size, at most `CELLS_PER_TRIANGLE` per triangle
+    /// (`MIN_CELLS` to `MAX_CELLS`): the flood is `O(cells)`, the marking
+    /// about `O(triangles)` for triangles no larger than a cell.
+    fn new(bounds: Aabb, triangles: impl Iterator<Item = [Vec3; 3]>, count: usize) -> Self {
+        let size = bounds.max - bounds.min;
+        let budget = (count * CELLS_PER_TRIANGLE).clamp(MIN_CELLS, MAX_CELLS) as f32;
+        let thick = size.max(Vec3::splat(size.max_element() * 1e-3));
+        let cell = (thick.x * thick.y * thick.z / budget).cbrt();
+        let dims = (size / cell)
+            .ceil()
+            .max(Vec3::ONE)
+            .to_array()
+            .map(|n| n as usize);
+        let mut grid = OutsideCells {
+            origin: bounds.min,
+            cell,
+            inverse_cell: 1.0 / cell,
+            dims,
+            clearance: vec![0; dims.iter().product()],
+        };
+        // Padding beyond the rounding of coordinates and of cell indices.
+        let pad =
+            cell * 1e-3 + 8.0 * f32::EPSILON * bounds.min.abs().max(bounds.max.abs()).max_element();
+        let mut surface = vec![false; grid.clearance.len()];
+        for corners in triangles {
+            let b = Aabb::of_points(corners);
+            let [lo, hi] = [b.min - pad, b.max + pad].map(|q| grid.cell_of(q));
+            for k in lo[2]..=hi[2] {
+                for j in lo[1]..=hi[1] {
+                    for i in lo[0]..=hi[0] {
+                        surface[grid.index([i, j, k])] = true;
+                    }
+                }
+            }
+        }
+        // Flood through faces from every free cell on the border.
+        let [nx, ny, nz] = dims;
+        let cells = (0..nz)
+            .flat_map(|k| (0..ny).flat_map(move |j| (0..nx).map(move |i| [i, j, k])))
+            .collect::<Vec<_>>();
+        let border = |[i, j, k]: [usize; 3]| {
+            i == 0 || j == 0 || k == 0 || i == nx - 1 || j == ny - 1 || k == nz - 1
+        };
+        let mut outside = vec![false; surface.len()];
+        let mut stack = Vec::new();
+        for &c in cells.iter().filter(|&&c| border(c)) {
+            if !surface[grid.index(c)] {
+                outside[grid.index(c)] = true;
+                stack.push(c);
+            }
+        }
+        while let Some(c) = stack.pop() {
+            for axis in 0..3 {
+                for next in [c[axis].wrapping_sub(1), c[axis] + 1] {
+                    let mut n = c;
+                    n[axis] = next;
+                    if next < dims[axis] && !surface[grid.index(n)] && !outside[grid.index(n)] {
+                        outside[grid.index(n)] = true;
+                        stack.push(n);
+                    }
+                }
+            }
+        }
+        // Clearances, breadth first from the touched cells over all 26 neighbours.
+        let mut distance = vec![u8::MAX; surface.len()];
+        let mut layer: Vec<_> = cells
+            .into_iter()
+            .filter(|&c| surface[grid.index(c)])
+            .collect();
+        layer.iter().for_each(|&c| distance[grid.index(c)] = 0);
+        for d in 1..u8::MAX {
+            let mut next_layer = Vec::new();
+            for c in layer {
+                let lo = c.map(|x| x.saturating_sub(1));
+                let hi = [0, 1, 2].map(|axis| (c[axis] + 1).min(dims[axis] - 1));
+                for k in lo[2]..=hi[2] {
+                    for j in lo[1]..=hi[1] {
+                        for i in lo[0]..=hi[0] {
+                            let index = grid.index([i, j, k]);
+                            if distance[index] == u8::MAX {
+                                distance[index] = d;
+                                next_layer.push([i, j, k]);
+                            }
+                        }
+                    }
+                }
+            }
+            if next_layer.is_empty() {
+                break;
+            }
+            layer = next_layer;
+        }
+        for ((clearance, outside), distance) in grid.clearance.iter_mut().zip(outside).zip(distance)
+        {
+            if outside {
+                *clearance = distance;
+            }
+        }
+        grid
+    }
+
+    fn index(&self, [i, j, k]: [usize; 3]) -> usize {
+        i + self.dims[0] * (j + self.dims[1] * k)
+    }
+
+    /// The cell holding `p`, clamped to the grid.
+    fn cell_of(&self, p: Vec3) -> [usize; 3] {
+        let g = ((p - self.origin) * self.inverse_cell)
+            .floor()
+            .max(Vec3::ZERO);
+        [0, 1, 2].map(|axis| (g[axis] as usize).min(self.dims[axis] - 1))
+    }
+
+    /// Whether `p`, within the grid's box, is certainly outside the mesh.
+    fn outside(&self, p: Vec3) -> bool {
+        self.clearance[self.index(self.cell_of(p))] > 0
+    }
+
+    /// Whether `p`, within the grid's box, is certainly outside the mesh and
+    /// at least `reach` from its surface.
+    fn outside_beyond(&self, p: Vec3, reach: f32) -> bool {
+        let clearance = self.clearance[self.index(self.cell_of(p))];
+        clearance > 0 && f32::from(clearance - 1) * self.cell >= reach
+    }
+}
+
+/// Angle-weighted pseudonormals of a closed surface (Baerentzen and Aanaes
+/// 2005), unnormalised: only the sign of a dot product with them is used.
+#[derive(Clone, PartialEq)]
+struct Pseudonormals {
+    /// Per triangle, in leaf order: its unit normal, then the pseudonormals
+    /// of its edges 0, 1 and 2 (the sum of the unit normals of the two
+    /// triangles on the edge).
+    triangles: Vec<[Vec3; 4]>,
+    /// Per vertex: the unit normals of its triangles, each weighted by the
+    /// triangle's angle at the vertex.
+    vertices: Vec<Vec3>,
+}
+
+impl Pseudonormals {
+    /// The pseudonormals of `triangles` if they make closed, oriented,
+    /// manifold surfaces: no degenerate triangle, every edge used by exactly
+    /// two triangles in opposite directions, and the triangles around every
+    /// vertex a single fan. Also one triangle of each connected surface, the
+    /// largest, to check which way the surface faces. `None` otherwise.
+    fn of_closed(positions: &[Vec3], triangles: &[[u32; 3]]) -> Option<(Self, Vec<usize>)> {
+        let corners = |t: &[u32; 3]| t.map(|i| positions[i as usize]);
+        let mut faces = Vec::with_capacity(triangles.len());
+        for t in triangles {
+            let [a, b, c] = corners(t);
+            faces.push((b - a).cross(c - a).try_normalize()?);
+        }
+        // Half-edge `3 t + k` runs from corner `k` of triangle `t` to corner `k + 1`.
+        let half_edge_count = 3 * triangles.len();
+        let mut half_edges = HashMap::with_capacity(half_edge_count);
+        for (h, (t, k)) in (0..triangles.len())
+            .flat_map(|t| (0..3).map(move |k| (t, k)))
+            .enumerate()
+        {
+            let edge = (triangles[t][k], triangles[t][(k + 1) % 3]);
+            if edge.0 == edge.1 || half_edges.insert(edge, h).is_some() {
+                return None;
+            }
+        }
+        let mut twin = vec![0; half_edge_count];
+        for (&(from, to), &h) in &half_edges {
+            twin[h] = *half_edges.get(&(to, from))?;
+        }
+        // Going round a vertex: the half-edge into it in the same triangle,
+        // then that one's twin, out of it in the next triangle.
+        let turn = |h: usize| twin[3 * (h / 3) + (h + 2) % 3];
+        let mut fans = vec![false; positions.len()];
+        let mut seen = vec![false; half_edge_count];
+        for start in 0..half_edge_count {
+            if seen[start] {
+                continue;
+            }
+            let vertex = triangles[start / 3][start % 3] as usize;
+            if std::mem::replace(&mut fans[vertex], true) {
+                return None; // a second fan: the surface pinches at the vertex
+            }
+            let mut h = start;
+            while !seen[h] {
+                seen[h] = true;
+                h = turn(h);
+            }
+        }
+        let mut vertices = vec![Vec3::ZERO; positions.len()];
+        for (t, face) in triangles.iter().zip(&faces) {
+            let p = corners(t);
+            for k in 0..3 {
+                let (u, v) = (p[(k + 1) % 3] - p[k], p[(k + 2) % 3] - p[k]);
+                let angle = u.cross(v).length().atan2(u.dot(v));
+                vertices[t[k] as usize] += *face * angle;
+            }
+        }
+        let normals = Pseudonormals {
+            triangles: (0..triangles.len())
+                .map(|t| {
+                    let edge = |k: usize| faces[t] + faces[twin[3 * t + k] / 3];
+                    [faces[t], edge(0), edge(1), edge(2)]
+                })
+                .collect(),
+            vertices,
+        };
+        // Connected surfaces, by flooding across edges.
+        let area = |t: usize| {
+            let [a, b, c] = corners(&triangles[t]);
+            (b - a).cross(c - a).length()
+        };
+        let mut flooded = vec![false; triangles.len()];
+        let mut largest = Vec::new();
+        for seed in 0..triangles.len() {
+            if std::mem::replace(&mut flooded[seed], true) {
+                continue;
+            }
+            let (mut stack, mut best) = (vec![seed], seed);
+            while let Some(t) = stack.pop() {
+                if area(t) > area(best) {
+                    best = t;
+                }
+                for &h in &twin[3 * t..3 * t + 3] {
+                    let next = h / 3;
+                    if !std::mem::replace(&mut flooded[next], true) {
+                        stack.push(next);
+                    }
+                }
+            }
+            largest.push(best);
+        }
+        Some((normals, largest))
+    }
+
+    /// The pseudonormal of `feature` of triangle `t` (corners `corners`).
+    fn at(&self, t: usize, corners: &[u32; 3], feature: Feature) -> Vec3 {
+        match feature {
+            Feature::Face => self.triangles[t][0],
+            Feature::Edge(k) => self.triangles[t][1 + k],
+            Feature::Vertex(k) => self.vertices[corners[k] as usize],
+        }
+    }
 }
 
 impl fmt::Debug for MeshCollider {
@@ -157,6 +473,7 @@ impl fmt::Debug for MeshCollider {
             .field("vertices", &self.positions.len())
             .field("triangles", &self.triangles.len())
             .field("bounds", &self.bounds())
+            .field("closed", &self.is_closed())
             .finish()
     }
 }
@@ -172,6 +489,8 @@ impl MeshCollider {
             positions: mesh.positions.clone(),
             triangles: mesh.triangles.clone(),
             nodes: Vec::with_capacity(2 * mesh.triangles.len() / LEAF_SIZE + 1),
+            pseudonormals: None,
+            outside: None,
         };
         if !collider.triangles.is_empty() {
             let mut triangles = std::mem::take(&mut collider.triangles);
@@ -179,7 +498,37 @@ impl MeshCollider {
             collider.split(0, &mut triangles, 0);
             collider.triangles = triangles;
         }
+        if let Some((normals, largest)) =
+            Pseudonormals::of_closed(&collider.positions, &collider.triangles)
+        {
+            if largest.into_iter().all(|t| collider.faces_outward(t)) {
+                collider.pseudonormals = Some(normals);
+                collider.outside = Some(OutsideCells::new(
+                    collider.bounds(),
+                    collider.triangles(),
+                    collider.triangles.len(),
+                ));
+            }
+        }
         collider
+    }
+
+    /// Whether the mesh is closed (see the module documentation): its
+    /// distances are then signed by pseudonormals rather than the winding number.
+    pub fn is_closed(&self) -> bool {
+        self.pseudonormals.is_some()
+    }
+
+    /// Whether triangle `t` faces out of the volume its surface bounds: the
+    /// winding number is below one half just in front of its centroid and
+    /// above one half just behind it. Not so for a surface turned inside
+    /// out, or one inside another's volume.
+    fn faces_outward(&self, t: usize) -> bool {
+        let [a, b, c] = self.corners(&self.triangles[t]);
+        let normal = (b - a).cross(c - a);
+        let step = normal.normalize_or_zero() * 1e-3 * normal.length().sqrt();
+        let centroid = (a + b + c) / 3.0;
+        self.winding_number(centroid + step) < 0.5 && self.winding_number(centroid - step) > 0.5
     }
 
     /// The corners of every triangle, in the hierarchy's leaf order.
@@ -319,10 +668,36 @@ impl MeshCollider {
         solid_angle / (4.0 * PI)
     }
 
-    /// Whether `p` is inside: within the bounding box and a winding number
-    /// above one half.
+    /// Whether `p` is inside: within the bounding box, and behind the surface
+    /// at its closest point for a closed mesh, or with a winding number above
+    /// one half for an open one.
     pub fn contains(&self, p: Vec3) -> bool {
-        self.bounds().contains(p) && self.winding_number(p) > 0.5
+        self.bounds().contains(p)
+            && !self.outside.as_ref().is_some_and(|o| o.outside(p))
+            && match &self.pseudonormals {
+                Some(normals) => self
+                    .closest_point(p)
+                    .is_some_and(|closest| self.behind(normals, p, closest.triangle)),
+                None => self.winding_number(p) > 0.5,
+            }
+    }
+
+    /// Whether `p`, whose closest point of the mesh is `closest`, is inside.
+    fn inside(&self, p: Vec3, closest: Closest) -> bool {
+        match &self.pseudonormals {
+            Some(normals) => self.behind(normals, p, closest.triangle),
+            None => self.bounds().contains(p) && self.winding_number(p) > 0.5,
+        }
+    }
+
+    /// Whether `p` is behind a closed surface at its closest point on
+    /// `triangle`: the sign of the direction from that point to `p` against
+    /// the pseudonormal of the face, edge or vertex the point lies on.
+    fn behind(&self, normals: &Pseudonormals, p: Vec3, triangle: usize) -> bool {
+        let t = &self.triangles[triangle];
+        let [a, b, c] = self.corners(t);
+        let (point, feature) = closest_feature_on_triangle(p, a, b, c);
+        (p - point).dot(normals.at(triangle, t, feature)) < 0.0
     }
 
     /// Signed distance (negative inside) and the outward unit normal: the
@@ -331,20 +706,38 @@ impl MeshCollider {
     /// noise). Infinitely far, facing up, without triangles.
     pub fn signed_distance(&self, p: Vec3) -> (f32, Vec3) {
         match self.closest_point(p) {
-            Some(closest) => self.signed(p, closest, self.contains(p)),
+            Some(closest) => self.signed(p, closest, self.inside(p, closest)),
             None => (f32::INFINITY, Vec3::Y),
         }
     }
 
     /// [`Self::signed_distance`] where it is below `reach`, `None` beyond:
-    /// for contacts, where the closest-point search outside the mesh stops at
-    /// `reach` (inside, the whole distance is needed to push out).
+    /// for contacts. The closest-point search stops at `reach`; only where
+    /// it finds nothing and `p` is within the bounding box does the point
+    /// need its sign on its own (deep inside, the whole distance is needed
+    /// to push out). See the module documentation.
     pub fn signed_distance_within(&self, p: Vec3, reach: f32) -> Option<(f32, Vec3)> {
-        let inside = self.contains(p);
-        let limit_squared = if inside { f32::INFINITY } else { reach * reach };
-        self.closest_point_within(p, limit_squared)
-            .map(|closest| self.signed(p, closest, inside))
-            .filter(|&(d, _)| d < reach)
+        let bounds = self.bounds();
+        if let Some(outside) = &self.outside {
+            if bounds.contains(p) && outside.outside_beyond(p, reach) {
+                return None;
+            }
+        }
+        if let Some(closest) = self.closest_point_within(p, reach * reach) {
+            return Some(self.signed(p, closest, self.inside(p, closest)))
+                .filter(|&(d, _)| d < reach);
+        }
+        if !bounds.contains(p) || self.outside.as_ref().is_some_and(|o| o.outside(p)) {
+            return None;
+        }
+        let closest = match &self.pseudonormals {
+            Some(normals) => self
+                .closest_point(p)
+                .filter(|closest| self.behind(normals, p, closest.triangle))?,
+            None if self.winding_number(p) > 0.5 => self.closest_point(p)?,
+            None => return None,
+        };
+        Some(self.signed(p, closest, true)).filter(|&(d, _)| d < reach)
     }
 
     /// The first triangle the segment `from`-`to` crosses, nearest `from`.
@@ -509,49 +902,74 @@ pub fn triangle_solid_angle(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> f32 {
 /// The point of triangle `abc` nearest `p`, by its Voronoi regions (Ericson
 /// 2005, 5.1.5). A degenerate triangle falls back to its nearest edge.
 pub fn closest_point_on_triangle(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
+    closest_feature_on_triangle(p, a, b, c).0
+}
+
+/// Which part of a triangle a closest point lies on: a corner, an edge
+/// (edge `k` runs from corner `k` to corner `k + 1`, modulo 3) or the inside.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Feature {
+    Vertex(usize),
+    Edge(usize),
+    Face,
+}
+
+/// [`closest_point_on_triangle`] and the feature the point lies on.
+fn closest_feature_on_triangle(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> (Vec3, Feature) {
     let (ab, ac, ap) = (b - a, c - a, p - a);
     let (d1, d2) = (ab.dot(ap), ac.dot(ap));
     if d1 <= 0.0 && d2 <= 0.0 {
-        return a;
+        return (a, Feature::Vertex(0));
     }
     let bp = p - b;
     let (d3, d4) = (ab.dot(bp), ac.dot(bp));
     if d3 >= 0.0 && d4 <= d3 {
-        return b;
+        return (b, Feature::Vertex(1));
     }
     let vc = d1 * d4 - d3 * d2;
     if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
-        return a + ab * (d1 / (d1 - d3));
+        return (a + ab * (d1 / (d1 - d3)), Feature::Edge(0));
     }
     let cp = p - c;
     let (d5, d6) = (ab.dot(cp), ac.dot(cp));
     if d6 >= 0.0 && d5 <= d6 {
-        return c;
+        return (c, Feature::Vertex(2));
     }
     let vb = d5 * d2 - d1 * d6;
     if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
-        return a + ac * (d2 / (d2 - d6));
+        return (a + ac * (d2 / (d2 - d6)), Feature::Edge(2));
     }
     let va = d3 * d6 - d5 * d4;
     if va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 {
-        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+        return (
+            b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))),
+            Feature::Edge(1),
+        );
     }
     let sum = va + vb + vc;
     if sum <= 0.0 || !sum.is_finite() {
         return nearest_edge_point(p, [a, b, c]);
     }
-    a + ab * (vb / sum) + ac * (vc / sum)
+    (a + ab * (vb / sum) + ac * (vc / sum), Feature::Face)
 }
 
-/// The point nearest `p` on the three edges of a (degenerate) triangle.
-fn nearest_edge_point(p: Vec3, [a, b, c]: [Vec3; 3]) -> Vec3 {
-    [(a, b), (b, c), (c, a)]
-        .map(|(s, e)| {
+/// The point nearest `p` on the three edges of a (degenerate) triangle, and
+/// that edge, or its corner where the point is one.
+fn nearest_edge_point(p: Vec3, corners: [Vec3; 3]) -> (Vec3, Feature) {
+    (0..3)
+        .map(|k| {
+            let (s, e) = (corners[k], corners[(k + 1) % 3]);
             let d = e - s;
             let t = ((p - s).dot(d) / d.length_squared().max(f32::MIN_POSITIVE)).clamp(0.0, 1.0);
-            s + d * t
+            let feature = if t == 0.0 {
+                Feature::Vertex(k)
+            } else if t == 1.0 {
+                Feature::Vertex((k + 1) % 3)
+            } else {
+                Feature::Edge(k)
+            };
+            (s + d * t, feature)
         })
-        .into_iter()
-        .min_by(|x, y| x.distance_squared(p).total_cmp(&y.distance_squared(p)))
-        .unwrap_or(a)
+        .min_by(|x, y| x.0.distance_squared(p).total_cmp(&y.0.distance_squared(p)))
+        .unwrap_or((corners[0], Feature::Vertex(0)))
 }

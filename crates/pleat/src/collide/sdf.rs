@@ -1,6 +1,7 @@
 //! Signed distance fields baked from a triangle mesh onto a regular grid:
 //! each grid node holds the mesh collider's signed distance (the magnitude
-//! from the hierarchy's closest point, the sign from the winding number).
+//! from the hierarchy's closest point, the sign from the pseudonormals of a
+//! closed mesh or the winding number of an open one).
 //! A query interpolates the eight nodes of its cell trilinearly, and the
 //! normal is the analytic gradient of that interpolant, normalised.
 //!
