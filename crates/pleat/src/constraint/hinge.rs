@@ -74,7 +74,7 @@ impl OrigamiHinge {
     }
 
     /// Updates the tracked angle to the configuration `position` gives
-    /// (unchanged for a degenerate pair), within +-[`MAX_TRACKED_ANGLE`].
+    /// (unchanged for a degenerate pair), within +-`MAX_TRACKED_ANGLE`.
     pub fn track(&mut self, position: impl Fn(u32) -> Vec3) {
         if let Some((phi, _)) = dihedral_angle_simd(self.v.map(|i| Vec3A::from(position(i)))) {
             self.angle = self

@@ -3,7 +3,7 @@
 //!
 //! [`Scene::parse`] refuses unknown fields, wrong types and out-of-range
 //! values with errors that name the file, the JSON path and the reason;
-//! [`Scene::build`] turns a valid scene into a [`Simulation`].
+//! [`Scene::build`] turns a valid scene into a [`Simulation`](crate::Simulation).
 
 mod build;
 mod error;

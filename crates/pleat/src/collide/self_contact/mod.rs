@@ -1,13 +1,13 @@
 //! Self-collision and cloth-cloth collision with a thickness, solved inside
 //! each XPBD substep after the cloth constraints:
 //!
-//! - [`broad_phase`]: the rest mesh is cut into small connected [`patches`];
+//! - `broad_phase`: the rest mesh is cut into small connected `patches`;
 //!   each substep their swept boxes go into a flat hash grid, pairs of
 //!   patches that are one smooth piece of surface are culled by their
-//!   [`normal_cone`]s, and the rest give candidate particle-particle,
-//!   vertex-triangle and edge-edge contacts, less the pairs the [`rest`] mesh
+//!   `normal_cone`s, and the rest give candidate particle-particle,
+//!   vertex-triangle and edge-edge contacts, less the pairs the `rest` mesh
 //!   keeps apart;
-//! - [`narrow_phase`]: each candidate's correction, with continuous
+//! - `narrow_phase`: each candidate's correction, with continuous
 //!   collision detection over the substep's motion and friction between layers.
 //!
 //! Solve (Jacobi): each contact computes its corrections from the same
