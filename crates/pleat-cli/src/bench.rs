@@ -1,7 +1,7 @@
 //! `pleat bench`: whole-frame timings of the standard hanging cloth
 //! (DESIGN.md section 5), as a table or one JSON object a line.
 
-use crate::report::FrameTimes;
+use crate::report::{FrameTimes, StagesMs};
 use crate::{require_cpu, with_threads};
 use pleat::metrics::stretch;
 use pleat::scene::presets::hanging_cloth;
@@ -54,6 +54,8 @@ struct BenchLine {
     frames: u32,
     threads: usize,
     tethers: bool,
+    /// Time per stage over the timed frames.
+    stages_ms: StagesMs,
 }
 
 pub fn bench(args: &BenchArgs) -> Result<ExitCode, String> {
@@ -99,6 +101,7 @@ fn measure(args: &BenchArgs, n: u32) -> Result<BenchLine, String> {
     for _ in 0..args.warmup {
         sim.step(dt);
     }
+    sim.stages = Default::default();
     let times: Vec<_> = (0..args.frames)
         .map(|_| {
             let start = Instant::now();
@@ -118,6 +121,7 @@ fn measure(args: &BenchArgs, n: u32) -> Result<BenchLine, String> {
         p95_ms: t.p95,
         frames: args.frames,
         threads: rayon::current_num_threads(),
+        stages_ms: StagesMs::from(&sim.stages, args.frames),
         tethers: args.tethers,
     })
 }

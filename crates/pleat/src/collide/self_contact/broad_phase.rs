@@ -1,7 +1,8 @@
 //! Broad phase of self-collision, run every substep: the swept boxes of the
-//! patches ([`super::patches`]) go into a flat [`HashGrid`]; each pair of
-//! patches whose boxes overlap is culled when it is one connected piece of
-//! surface with a narrow [`NormalCone`] (it cannot touch itself), else its
+//! clusters of patches ([`super::patches`]) go into a flat [`HashGrid`]; each
+//! pair of clusters whose boxes overlap, then each pair of their patches, is
+//! culled when it is one connected piece of surface with a narrow
+//! [`NormalCone`] (it cannot touch itself), else its
 //! vertex-triangle and particle pairs near enough, and the edge pairs that
 //! may have crossed, become candidate contacts, less the pairs the rest mesh
 //! excludes.
@@ -72,7 +73,7 @@ impl Smoothness {
     }
 }
 
-/// Per-substep bounds and the grid of patch boxes, kept between substeps.
+/// Per-substep bounds and the grid of cluster boxes, kept between substeps.
 #[derive(Clone, Debug, Default)]
 pub(super) struct BroadPhase {
     /// Per particle: swept box grown by half the thickness, and how far it moved.
@@ -80,7 +81,7 @@ pub(super) struct BroadPhase {
     motion: Vec<f32>,
     patch: Vec<PatchBound>,
     cluster: Vec<Smoothness>,
-    patch_box: Vec<Aabb>,
+    cluster_box: Vec<Aabb>,
     grid: HashGrid,
 }
 
@@ -101,9 +102,9 @@ impl BroadPhase {
         self.refit(rest, patches, x_prev, x, 0.5 * thickness);
         // A sequential sum: the cell size, and so the order candidates are
         // found in, is the same for any thread count.
-        let total: f32 = self.patch_box.iter().map(Aabb::extent).sum();
-        let cell = (CELL * total / self.patch_box.len().max(1) as f32).max(thickness);
-        self.grid.build(&self.patch_box, cell);
+        let total: f32 = self.cluster_box.iter().map(Aabb::extent).sum();
+        let cell = (CELL * total / self.cluster_box.len().max(1) as f32).max(thickness);
+        self.grid.build(&self.cluster_box, cell);
         let scan = Scan {
             rest,
             patches,
@@ -114,10 +115,9 @@ impl BroadPhase {
         };
         out.clear();
         out.par_extend(
-            (0..patches.len())
+            (0..patches.cluster_count())
                 .into_par_iter()
-                .with_min_len(16)
-                .flat_map_iter(|a| scan.candidates_of(a)),
+                .flat_map_iter(|c| scan.candidates_of(c)),
         );
     }
 
@@ -162,21 +162,19 @@ impl BroadPhase {
                     cone: Smoothness::new(NormalCone::around(normals.iter().copied())),
                 };
             });
-        self.patch_box.clear();
-        self.patch_box.extend(self.patch.iter().map(|b| b.aabb));
         let patch = &self.patch;
-        self.cluster
-            .resize(patches.cluster_count(), Smoothness::default());
-        self.cluster
-            .par_iter_mut()
+        let clusters = patches.cluster_count();
+        self.cluster.resize(clusters, Smoothness::default());
+        self.cluster_box.resize(clusters, Aabb::EMPTY);
+        (&mut self.cluster, &mut self.cluster_box)
+            .into_par_iter()
             .enumerate()
             .with_min_len(16)
-            .for_each(|(c, cluster)| {
-                let members = patches
-                    .members(c)
-                    .iter()
-                    .map(|&p| patch[p as usize].cone.cone);
-                *cluster = Smoothness::new(NormalCone::union_of(members));
+            .for_each(|(c, (cluster, aabb))| {
+                let members = patches.members(c).iter().map(|&p| &patch[p as usize]);
+                *cluster =
+                    Smoothness::new(NormalCone::union_of(members.clone().map(|p| p.cone.cone)));
+                *aabb = members.fold(Aabb::EMPTY, |u, p| u.union(p.aabb));
             });
     }
 }
@@ -240,46 +238,57 @@ impl Near {
 }
 
 impl Scan<'_> {
-    /// Candidates of patch `a` with itself and with the patches after it.
-    fn candidates_of(&self, a: usize) -> Vec<Contact> {
+    /// Candidates of cluster `c` with itself and with the clusters after it.
+    fn candidates_of(&self, c: usize) -> Vec<Contact> {
         let mut out = Vec::new();
         let (mut mine, mut theirs) = (Near::default(), Near::default());
-        let patch = &self.bounds.patch;
-        self.bounds.grid.for_each_overlapping(&patch[a].aabb, |q| {
-            let q = q as usize;
-            if q < a || self.culled(a, q) {
+        let (patch, cluster_box) = (&self.bounds.patch, &self.bounds.cluster_box);
+        self.bounds.grid.for_each_overlapping(&cluster_box[c], |d| {
+            let d = d as usize;
+            if d < c || self.clusters_culled(c, d) {
                 return;
             }
-            mine.gather(self, a, &patch[q].aabb);
-            let same = q == a;
-            if !same {
-                theirs.gather(self, q, &patch[a].aabb);
+            for &a in self.patches.members(c) {
+                let a = a as usize;
+                for &q in self.patches.members(d) {
+                    let q = q as usize;
+                    if (c == d && q < a)
+                        || !patch[a].aabb.overlaps(&patch[q].aabb)
+                        || self.patches_culled(a, q)
+                    {
+                        continue;
+                    }
+                    mine.gather(self, a, &patch[q].aabb);
+                    let same = q == a;
+                    if !same {
+                        theirs.gather(self, q, &patch[a].aabb);
+                    }
+                    let other = if same { &mine } else { &theirs };
+                    self.vertex_triangle(&mine, other, &mut out);
+                    if !same {
+                        self.vertex_triangle(other, &mine, &mut out);
+                    }
+                    self.particle_pairs(&mine, other, same, &mut out);
+                    self.edge_pairs(&mine, other, same, &mut out);
+                }
             }
-            let other = if same { &mine } else { &theirs };
-            self.vertex_triangle(&mine, other, &mut out);
-            if !same {
-                self.vertex_triangle(other, &mine, &mut out);
-            }
-            self.particle_pairs(&mine, other, same, &mut out);
-            self.edge_pairs(&mine, other, same, &mut out);
         });
         out
     }
 
-    /// Whether patches `a <= q` lie in one piece of surface with a narrow
-    /// cone: one cluster, two touching clusters, one patch or two touching
-    /// patches.
-    fn culled(&self, a: usize, q: usize) -> bool {
-        let (ca, cq) = (self.patches.cluster_of(a), self.patches.cluster_of(q));
+    /// Whether clusters `c <= d` lie in one smooth piece of surface: one
+    /// cluster, or two touching clusters, with a narrow cone.
+    fn clusters_culled(&self, c: usize, d: usize) -> bool {
         let cluster = &self.bounds.cluster;
-        let clusters_smooth = if ca == cq {
-            cluster[ca].smooth()
+        if c == d {
+            cluster[c].smooth()
         } else {
-            cluster[ca].smooth_with(&cluster[cq]) && self.patches.clusters_touch(ca, cq)
-        };
-        if clusters_smooth {
-            return true;
+            cluster[c].smooth_with(&cluster[d]) && self.patches.clusters_touch(c, d)
         }
+    }
+
+    /// Whether patches `a` and `q` lie in one smooth piece of surface.
+    fn patches_culled(&self, a: usize, q: usize) -> bool {
         let (pa, pq) = (&self.bounds.patch[a].cone, &self.bounds.patch[q].cone);
         if a == q {
             pa.smooth()

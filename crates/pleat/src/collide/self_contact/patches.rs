@@ -38,8 +38,6 @@ pub(super) struct Patches {
     /// Patches that share a vertex with each patch, itself excluded (CSR, sorted).
     neighbour_start: Vec<u32>,
     neighbours: Vec<u32>,
-    /// Cluster of each patch.
-    cluster_of: Vec<u32>,
     /// Patches of each cluster (CSR).
     member_start: Vec<u32>,
     members: Vec<u32>,
@@ -105,7 +103,6 @@ impl Patches {
             edges,
             neighbour_start,
             neighbours,
-            cluster_of,
             member_start,
             members,
             cluster_neighbour_start,
@@ -135,10 +132,6 @@ impl Patches {
 
     pub fn cluster_count(&self) -> usize {
         self.member_start.len().saturating_sub(1)
-    }
-
-    pub fn cluster_of(&self, p: usize) -> usize {
-        self.cluster_of[p] as usize
     }
 
     /// Patches of cluster `c`.
@@ -301,7 +294,6 @@ mod tests {
         for c in 0..patches.cluster_count() {
             for &p in patches.members(c) {
                 assert!(seen.insert(p));
-                assert_eq!(patches.cluster_of(p as usize), c);
             }
         }
         assert_eq!(seen.len(), patches.len());
