@@ -6,6 +6,7 @@
 use pleat::collide::rigid_body::MassProperties;
 use pleat::collide::{MeshCollider, RigidBody};
 use pleat::glam::{Mat3, Quat, Vec3};
+use pleat::mesh::generate::Icosphere;
 use pleat::mesh::Mesh;
 use pleat::scene::Scene;
 use pleat::Simulation;
@@ -58,74 +59,6 @@ fn box_mesh(half: Vec3) -> Mesh {
     }
 }
 
-/// An icosahedron subdivided `levels` times onto the sphere of `radius`.
-fn icosphere(radius: f32, levels: usize) -> Mesh {
-    let t = (1.0 + 5f32.sqrt()) / 2.0;
-    let mut positions: Vec<Vec3> = [
-        [-1.0, t, 0.0],
-        [1.0, t, 0.0],
-        [-1.0, -t, 0.0],
-        [1.0, -t, 0.0],
-        [0.0, -1.0, t],
-        [0.0, 1.0, t],
-        [0.0, -1.0, -t],
-        [0.0, 1.0, -t],
-        [t, 0.0, -1.0],
-        [t, 0.0, 1.0],
-        [-t, 0.0, -1.0],
-        [-t, 0.0, 1.0],
-    ]
-    .iter()
-    .map(|p| Vec3::from_array(*p).normalize() * radius)
-    .collect();
-    let mut triangles: Vec<[u32; 3]> = vec![
-        [0, 11, 5],
-        [0, 5, 1],
-        [0, 1, 7],
-        [0, 7, 10],
-        [0, 10, 11],
-        [1, 5, 9],
-        [5, 11, 4],
-        [11, 10, 2],
-        [10, 7, 6],
-        [7, 1, 8],
-        [3, 9, 4],
-        [3, 4, 2],
-        [3, 2, 6],
-        [3, 6, 8],
-        [3, 8, 9],
-        [4, 9, 5],
-        [2, 4, 11],
-        [6, 2, 10],
-        [8, 6, 7],
-        [9, 8, 1],
-    ];
-    for _ in 0..levels {
-        let mut midpoints = std::collections::HashMap::new();
-        let mut mid = |a: u32, b: u32, positions: &mut Vec<Vec3>| {
-            *midpoints.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                let p = (positions[a as usize] + positions[b as usize]).normalize() * radius;
-                positions.push(p);
-                positions.len() as u32 - 1
-            })
-        };
-        triangles = triangles
-            .iter()
-            .flat_map(|&[a, b, c]| {
-                let ab = mid(a, b, &mut positions);
-                let bc = mid(b, c, &mut positions);
-                let ca = mid(c, a, &mut positions);
-                [[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]
-            })
-            .collect();
-    }
-    Mesh {
-        positions,
-        triangles,
-        grid: None,
-    }
-}
-
 fn assert_mat_close(a: Mat3, b: Mat3, tolerance: f32) {
     let scale = b.to_cols_array().iter().fold(0f32, |m, x| m.max(x.abs()));
     for (x, y) in a.to_cols_array().iter().zip(b.to_cols_array()) {
@@ -166,10 +99,12 @@ fn box_mesh_inertia_matches_the_formula() {
 #[test]
 fn icosphere_inertia_approaches_the_sphere() {
     let radius = 0.5;
-    let mut mesh = icosphere(radius, 4);
-    for p in &mut mesh.positions {
-        *p += Vec3::new(0.0, 3.0, 0.0);
+    let mesh = Icosphere {
+        center: Vec3::new(0.0, 3.0, 0.0),
+        radius,
+        subdivisions: 4,
     }
+    .mesh();
     let props = MassProperties::mesh(MeshCollider::new(&mesh).triangles(), 1000.0).unwrap();
     let exact = MassProperties::sphere(Vec3::new(0.0, 3.0, 0.0), radius, 1000.0);
     let ratio = props.inertia.x_axis.x / exact.inertia.x_axis.x;

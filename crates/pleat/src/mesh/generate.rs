@@ -56,6 +56,18 @@ pub struct TorusKnot {
 /// A parameter that makes no mesh: its field name and the reason.
 pub type ParameterError = (&'static str, String);
 
+/// Errors of a shape's `center` (finite) and `radius` (positive).
+fn placement_errors(center: Vec3, radius: f32) -> Vec<ParameterError> {
+    let mut errors = Vec::new();
+    if !center.is_finite() {
+        errors.push(("center", "must be three finite numbers".to_string()));
+    }
+    if !(radius.is_finite() && radius > 0.0) {
+        errors.push(("radius", format!("must be a positive number, got {radius}")));
+    }
+    errors
+}
+
 impl TorusKnot {
     /// The centre line at `phi` in `[0, 2 pi)`, about the origin and
     /// unrotated, with its first and second derivatives.
@@ -122,16 +134,7 @@ impl TorusKnot {
     /// Checks the parameters: positive sizes, counts in range, coprime
     /// windings and a tube thinner than [`Self::max_tube`].
     pub fn check(&self) -> Result<(), Vec<ParameterError>> {
-        let mut errors = Vec::new();
-        if !self.center.is_finite() {
-            errors.push(("center", "must be three finite numbers".to_string()));
-        }
-        if !(self.radius.is_finite() && self.radius > 0.0) {
-            errors.push((
-                "radius",
-                format!("must be a positive number, got {}", self.radius),
-            ));
-        }
+        let mut errors = placement_errors(self.center, self.radius);
         if !(self.tube.is_finite() && self.tube > 0.0) {
             errors.push((
                 "tube",
@@ -251,16 +254,7 @@ pub struct Icosphere {
 impl Icosphere {
     /// Checks a finite centre, a positive radius and at most [`MAX_SUBDIVISIONS`].
     pub fn check(&self) -> Result<(), Vec<ParameterError>> {
-        let mut errors = Vec::new();
-        if !self.center.is_finite() {
-            errors.push(("center", "must be three finite numbers".to_string()));
-        }
-        if !(self.radius.is_finite() && self.radius > 0.0) {
-            errors.push((
-                "radius",
-                format!("must be a positive number, got {}", self.radius),
-            ));
-        }
+        let mut errors = placement_errors(self.center, self.radius);
         if self.subdivisions > MAX_SUBDIVISIONS {
             errors.push((
                 "subdivisions",
