@@ -14,6 +14,13 @@
 //! Smooth cloth costs about one pass over its triangles per substep, however
 //! fast it moves; crumpled or layered cloth costs in proportion to the surface
 //! that lies close to other surface.
+//!
+//! Limit: the culling takes a connected piece with a narrow cone to be a
+//! height field over its cone's axis. Provot's contour test (the piece's
+//! border, projected along the axis, must not cross itself) is left out: a
+//! piece would have to wind over itself like a spiral ramp within a few
+//! patches while its normals stay within 60 degrees, which a cloth that
+//! barely stretches cannot do at this scale.
 
 use super::narrow_phase::{Contact, EdgePair};
 use super::normal_cone::NormalCone;
