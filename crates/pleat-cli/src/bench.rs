@@ -64,20 +64,20 @@ pub fn bench(args: &BenchArgs) -> Result<ExitCode, String> {
         return Err(format!("--sizes: {n} is out of range: sizes are 2 to 4096"));
     }
     if !args.json {
-        println!(
+        crate::print_line(format_args!(
             "{:>6} {:>10} {:>9} {:>12} {:>10} {:>12}",
             "n", "particles", "substeps", "ms/frame", "p95 ms", "max stretch"
-        );
+        ));
     }
     for &n in &args.sizes {
         let line = with_threads(args.threads, || measure(args, n))??;
         if args.json {
-            println!(
+            crate::print_line(format_args!(
                 "{}",
                 serde_json::to_string(&line).map_err(|e| e.to_string())?
-            );
+            ));
         } else {
-            println!(
+            crate::print_line(format_args!(
                 "{:>6} {:>10} {:>9} {:>12.3} {:>10.3} {:>12.4}",
                 line.n,
                 line.particles,
@@ -85,7 +85,7 @@ pub fn bench(args: &BenchArgs) -> Result<ExitCode, String> {
                 line.ms_per_frame,
                 line.p95_ms,
                 line.max_stretch
-            );
+            ));
         }
     }
     Ok(ExitCode::SUCCESS)

@@ -18,12 +18,12 @@ pub fn check(args: &CheckArgs) -> Result<ExitCode, String> {
     let mut bad = 0;
     for path in &args.files {
         match summary(path) {
-            Ok(line) => println!("ok   {}: {line}", path.display()),
+            Ok(line) => crate::print_line(format_args!("ok   {}: {line}", path.display())),
             Err(errors) => {
                 bad += 1;
-                println!("FAIL {}", path.display());
+                crate::print_line(format_args!("FAIL {}", path.display()));
                 for e in errors.lines() {
-                    println!("     {e}");
+                    crate::print_line(format_args!("     {e}"));
                 }
             }
         }

@@ -78,7 +78,7 @@ pub fn compare(args: &CompareArgs) -> Result<ExitCode, String> {
             .collect::<Result<Vec<_>, String>>()
     })??;
     let table = table(&runs);
-    println!("{table}");
+    crate::print_line(format_args!("{table}"));
     if let Some(dir) = &args.out {
         let sweep = with_threads(args.threads, || {
             sweep(&scene, &model, &base_dir, &file, args.sweep_frames)
@@ -226,12 +226,12 @@ fn write_outputs(
     let md = dir.join("compare.md");
     std::fs::write(&md, markdown(scene, table, sweep, sweep_frames))
         .map_err(|e| format!("{}: {e}", md.display()))?;
-    println!(
+    crate::print_line(format_args!(
         "wrote {}, {} and {}",
         md.display(),
         stretch_png.display(),
         stability_png.display()
-    );
+    ));
     Ok(())
 }
 

@@ -54,13 +54,13 @@ pub fn fold(args: &FoldArgs) -> Result<ExitCode, String> {
     let (frame_times, output) = run_frames(&mut sim, &name, frames, &args.output)?;
     let threads = rayon_threads(args.output.threads)?;
     let report = Report::named(&sim, &name, frame_dt, "cpu", &frame_times, threads);
-    println!(
+    crate::print_line(format_args!(
         "{}: {} vertices, {} triangles, {} creases",
         name,
         sheet.positions.len(),
         sheet.triangles.len(),
         sheet.crease_count()
-    );
+    ));
     finish(&report, output, &args.output)?;
     Ok(if report.nan {
         ExitCode::FAILURE

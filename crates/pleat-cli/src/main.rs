@@ -52,6 +52,20 @@ fn main() -> ExitCode {
     }
 }
 
+/// Prints a line on stdout. A closed pipe (`pleat check ... | head -1`) ends
+/// the program quietly with success, as the SIGPIPE of other tools would;
+/// any other write error ends it with a message.
+fn print_line(line: impl std::fmt::Display) {
+    use std::io::Write;
+    if let Err(e) = writeln!(std::io::stdout(), "{line}") {
+        if e.kind() == std::io::ErrorKind::BrokenPipe {
+            std::process::exit(0);
+        }
+        eprintln!("error: cannot write to stdout: {e}");
+        std::process::exit(2);
+    }
+}
+
 /// Runs `f` on a rayon pool of `threads` threads (all cores when `None`).
 fn with_threads<R: Send>(
     threads: Option<usize>,

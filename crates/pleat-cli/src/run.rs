@@ -87,13 +87,13 @@ pub fn run_frames(
 
 /// Prints the report's summary and writes the exports and report.json.
 pub fn finish(report: &Report, output: Option<Output>, args: &OutputArgs) -> Result<(), String> {
-    println!("{}", report.summary_line());
+    crate::print_line(format_args!("{}", report.summary_line()));
     if let Some(line) = report.fold_line() {
-        println!("{line}");
+        crate::print_line(format_args!("{line}"));
     }
     if let (Some(out), Some(dir)) = (output, &args.out) {
         out.finish()?;
-        println!("wrote {}", report.write(dir)?.display());
+        crate::print_line(format_args!("wrote {}", report.write(dir)?.display()));
     }
     Ok(())
 }

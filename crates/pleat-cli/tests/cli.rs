@@ -229,3 +229,28 @@ fn gpu_backend_is_refused_with_a_message() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("GPU backend is not part of this build"));
 }
+
+#[test]
+fn closed_stdout_ends_quietly_without_a_panic() {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_pleat"))
+        .args([
+            "bench",
+            "--sizes",
+            "2,3,4,5,6,7,8",
+            "--frames",
+            "1",
+            "--warmup",
+            "0",
+        ])
+        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("pleat runs");
+    // Close the reading end at once, as `pleat bench | head -0` would.
+    drop(child.stdout.take());
+    let out = child.wait_with_output().expect("pleat ends");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(out.status.success(), "{:?}: {stderr}", out.status);
+}
