@@ -202,81 +202,46 @@ struct Scan<'a> {
     thickness: f32,
 }
 
-/// A vertex, edge or triangle of a patch, with what the candidate tests
-/// read: its swept box, how far its particles moved in the substep, and a
-/// ball around it at the substep's end.
-#[derive(Clone, Copy)]
-struct Feature<const N: usize> {
-    v: [u32; N],
-    aabb: Aabb,
-    motion: f32,
-    centre: Vec3,
-    radius: f32,
-}
-
-impl<const N: usize> Feature<N> {
-    fn new(scan: &Scan, v: [u32; N]) -> Self {
-        let (vertex_box, motion) = (&scan.bounds.vertex_box, &scan.bounds.motion);
-        let at = v.map(|k| scan.x[k as usize]);
-        let centre = at.iter().sum::<Vec3>() / N as f32;
-        Feature {
-            v,
-            aabb: v
-                .iter()
-                .fold(Aabb::EMPTY, |b, &k| b.union(vertex_box[k as usize])),
-            motion: v.iter().map(|&k| motion[k as usize]).fold(0.0, f32::max),
-            centre,
-            radius: at.iter().map(|p| p.distance(centre)).fold(0.0, f32::max),
-        }
-    }
-}
-
-/// The features of one patch whose boxes meet another patch's box.
+/// The features of one patch whose boxes meet another patch's box, with
+/// their boxes and how far their particles moved in the substep.
 #[derive(Default)]
 struct Near {
-    vertices: Vec<Feature<1>>,
-    triangles: Vec<Feature<3>>,
-    edges: Vec<Feature<2>>,
+    vertices: Vec<(u32, Aabb, f32)>,
+    triangles: Vec<([u32; 3], Aabb, f32)>,
+    edges: Vec<([u32; 2], Aabb, f32)>,
 }
 
 impl Near {
     fn gather(&mut self, scan: &Scan, p: usize, other: &Aabb) {
-        let patches = scan.patches;
-        fill(
-            &mut self.vertices,
-            patches.vertices(p).iter().map(|&v| [v]),
-            scan,
-            other,
-        );
-        let triangles = patches.triangles(p).iter();
-        fill(
-            &mut self.triangles,
-            triangles.map(|&t| scan.rest.triangles[t as usize]),
-            scan,
-            other,
-        );
-        fill(
-            &mut self.edges,
-            patches.edges(p).iter().copied(),
-            scan,
-            other,
-        );
+        let (vertex_box, motion) = (&scan.bounds.vertex_box, &scan.bounds.motion);
+        let feature = |v: &[u32]| {
+            v.iter().fold((Aabb::EMPTY, 0.0f32), |(b, m), &k| {
+                (b.union(vertex_box[k as usize]), m.max(motion[k as usize]))
+            })
+        };
+        self.vertices.clear();
+        self.triangles.clear();
+        self.edges.clear();
+        for &v in scan.patches.vertices(p) {
+            let (b, m) = feature(&[v]);
+            if b.overlaps(other) {
+                self.vertices.push((v, b, m));
+            }
+        }
+        for &t in scan.patches.triangles(p) {
+            let tri = scan.rest.triangles[t as usize];
+            let (b, m) = feature(&tri);
+            if b.overlaps(other) {
+                self.triangles.push((tri, b, m));
+            }
+        }
+        for &e in scan.patches.edges(p) {
+            let (b, m) = feature(&e);
+            if b.overlaps(other) {
+                self.edges.push((e, b, m));
+            }
+        }
     }
-}
-
-/// Replaces `out` with the features of `items` whose boxes meet `other`.
-fn fill<const N: usize>(
-    out: &mut Vec<Feature<N>>,
-    items: impl Iterator<Item = [u32; N]>,
-    scan: &Scan,
-    other: &Aabb,
-) {
-    out.clear();
-    out.extend(
-        items
-            .map(|v| Feature::new(scan, v))
-            .filter(|f| f.aabb.overlaps(other)),
-    );
 }
 
 impl Scan<'_> {
@@ -351,26 +316,17 @@ impl Scan<'_> {
         (1.0 + SLACK) * self.thickness + motion_a + motion_b
     }
 
-    /// Whether two features may come within reach: their boxes overlap and
-    /// their balls are within [`Self::reach`].
-    fn may_meet<const A: usize, const B: usize>(&self, a: &Feature<A>, b: &Feature<B>) -> bool {
-        a.aabb.overlaps(&b.aabb)
-            && a.centre.distance(b.centre) < a.radius + b.radius + self.reach(a.motion, b.motion)
-    }
-
     /// Vertices of `a` against triangles of `b`.
     fn vertex_triangle(&self, a: &Near, b: &Near, out: &mut Vec<Contact>) {
-        for p in &a.vertices {
-            for t in &b.triangles {
-                let [pv] = p.v;
-                let v = [pv, t.v[0], t.v[1], t.v[2]];
-                if self.may_meet(p, t)
-                    && !self.rest.vertex_triangle_excluded(pv, t.v)
+        for &(p, pb, pm) in &a.vertices {
+            for &(tri, tb, tm) in &b.triangles {
+                let v = [p, tri[0], tri[1], tri[2]];
+                if pb.overlaps(&tb)
+                    && !self.rest.vertex_triangle_excluded(p, tri)
                     && self.dynamic(&v)
                 {
                     let [xp, xa, xb, xc] = v.map(|k| self.x[k as usize]);
-                    let reach = self.reach(p.motion, t.motion);
-                    if ccd::point_triangle_distance(xp, xa, xb, xc) < reach {
+                    if ccd::point_triangle_distance(xp, xa, xb, xc) < self.reach(pm, tm) {
                         out.push(Contact::VertexTriangle(v));
                     }
                 }
@@ -380,12 +336,15 @@ impl Scan<'_> {
 
     /// Particle pairs of `a` and `b`, each once (`same`: one patch).
     fn particle_pairs(&self, a: &Near, b: &Near, same: bool, out: &mut Vec<Contact>) {
-        for (k, i) in a.vertices.iter().enumerate() {
+        for (k, &(i, ib, im)) in a.vertices.iter().enumerate() {
             let from = if same { k + 1 } else { 0 };
-            for j in &b.vertices[from..] {
-                let v = [i.v[0], j.v[0]];
-                if self.may_meet(i, j) && self.dynamic(&v) && !self.rest.pair_excluded(v[0], v[1]) {
-                    out.push(Contact::Pair(v));
+            for &(j, jb, jm) in &b.vertices[from..] {
+                if ib.overlaps(&jb)
+                    && self.x[i as usize].distance(self.x[j as usize]) < self.reach(im, jm)
+                    && self.dynamic(&[i, j])
+                    && !self.rest.pair_excluded(i, j)
+                {
+                    out.push(Contact::Pair([i, j]));
                 }
             }
         }
@@ -393,25 +352,22 @@ impl Scan<'_> {
 
     /// Edge pairs of `a` and `b` near enough, each once (`same`: one patch).
     fn edge_pairs(&self, a: &Near, b: &Near, same: bool, out: &mut Vec<Contact>) {
-        for (k, e) in a.edges.iter().enumerate() {
+        for (k, &(e, eb, em)) in a.edges.iter().enumerate() {
             let from = if same { k + 1 } else { 0 };
-            for f in &b.edges[from..] {
-                let v = [e.v[0], e.v[1], f.v[0], f.v[1]];
-                if !self.may_meet(e, f)
-                    || self.rest.edge_edge_excluded(e.v, f.v)
-                    || !self.dynamic(&v)
-                {
+            for &(f, fb, fm) in &b.edges[from..] {
+                let v = [e[0], e[1], f[0], f[1]];
+                if !eb.overlaps(&fb) || self.rest.edge_edge_excluded(e, f) || !self.dynamic(&v) {
                     continue;
                 }
                 let [a0, a1, b0, b1] = v.map(|k| self.x[k as usize]);
                 let (s, u) = ccd::segment_closest_params(a0, a1, b0, b1);
                 let distance = a0.lerp(a1, s).distance(b0.lerp(b1, u));
-                if distance < self.reach(e.motion, f.motion) {
+                if distance < self.reach(em, fm) {
                     out.push(Contact::EdgeEdge(EdgePair {
                         v,
                         s,
                         u,
-                        may_cross: distance <= e.motion + f.motion,
+                        may_cross: distance <= em + fm,
                         crossed: None,
                     }));
                 }
