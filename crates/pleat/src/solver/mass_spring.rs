@@ -187,9 +187,8 @@ impl super::Solver for MassSpring {
         frame_dt: f32,
         stages: &mut StageTimes,
     ) {
-        let dt = frame_dt / self.substeps as f32;
-        for s in 0..self.substeps {
-            self.verlet_step(particles, world, world.time + s as f32 * dt, dt, stages);
+        for (t, dt) in super::substep_times(world.time, frame_dt, self.substeps) {
+            self.verlet_step(particles, world, t, dt, stages);
         }
     }
 }

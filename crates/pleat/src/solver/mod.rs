@@ -120,6 +120,18 @@ impl StageTimes {
     }
 }
 
+/// The start time and length of each of the `substeps` equal substeps of a
+/// frame of `frame_dt` starting at `start` (one at least).
+pub(super) fn substep_times(
+    start: f32,
+    frame_dt: f32,
+    substeps: u32,
+) -> impl Iterator<Item = (f32, f32)> {
+    let n = substeps.max(1);
+    let dt = frame_dt / n as f32;
+    (0..n).map(move |s| (start + s as f32 * dt, dt))
+}
+
 /// One algorithm that advances cloth in time.
 pub trait Solver: Send {
     fn kind(&self) -> SolverKind;

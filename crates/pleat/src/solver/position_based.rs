@@ -238,10 +238,7 @@ impl PbdLoop {
         stages: &mut StageTimes,
         mut project: impl FnMut(&mut Particles),
     ) {
-        let substeps = self.settings.substeps.max(1);
-        let dt = frame_dt / substeps as f32;
-        for s in 0..substeps {
-            let t = world.time + s as f32 * dt;
+        for (t, dt) in super::substep_times(world.time, frame_dt, self.settings.substeps) {
             self.substep(p, world, t, dt, stages, &mut project);
         }
     }

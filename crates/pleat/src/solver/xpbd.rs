@@ -181,10 +181,8 @@ impl super::Solver for Xpbd {
         frame_dt: f32,
         stages: &mut StageTimes,
     ) {
-        let substeps = self.settings.substeps.max(1);
-        let dt = frame_dt / substeps as f32;
-        for s in 0..substeps {
-            self.substep(particles, world, world.time + s as f32 * dt, dt, stages);
+        for (t, dt) in super::substep_times(world.time, frame_dt, self.settings.substeps) {
+            self.substep(particles, world, t, dt, stages);
         }
     }
 }
