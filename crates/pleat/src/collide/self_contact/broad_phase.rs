@@ -87,10 +87,23 @@ pub(super) struct BroadPhase {
     /// Per particle: swept box grown by half the thickness, and how far it moved.
     vertex_box: Vec<Aabb>,
     motion: Vec<f32>,
+    /// Per triangle: unit normal at the substep's end.
+    normal: Vec<Vec3>,
     patch: Vec<PatchBound>,
     cluster: Vec<Smoothness>,
     cluster_box: Vec<Aabb>,
     grid: HashGrid,
+    /// Per cluster: its candidates and buffers, kept so that a substep
+    /// allocates nothing once they have grown.
+    scratch: Vec<Scratch>,
+}
+
+/// One cluster's candidates of a substep and its feature buffers.
+#[derive(Clone, Debug, Default)]
+struct Scratch {
+    found: Vec<Contact>,
+    mine: Near,
+    theirs: Near,
 }
 
 impl BroadPhase {
@@ -113,6 +126,8 @@ impl BroadPhase {
         let total: f32 = self.cluster_box.iter().map(Aabb::extent).sum();
         let cell = (CELL * total / self.cluster_box.len().max(1) as f32).max(thickness);
         self.grid.build(&self.cluster_box, cell);
+        let mut scratch = std::mem::take(&mut self.scratch);
+        scratch.resize_with(patches.cluster_count(), Scratch::default);
         let scan = Scan {
             rest,
             patches,
@@ -121,12 +136,15 @@ impl BroadPhase {
             inv_mass,
             thickness,
         };
+        scratch
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(c, s)| scan.candidates_of(c, s));
         out.clear();
-        out.par_extend(
-            (0..patches.cluster_count())
-                .into_par_iter()
-                .flat_map_iter(|c| scan.candidates_of(c)),
-        );
+        for s in &scratch {
+            out.extend_from_slice(&s.found);
+        }
+        self.scratch = scratch;
     }
 
     /// Swept boxes and normal cones of the patches.
@@ -147,27 +165,26 @@ impl BroadPhase {
                 *b = Aabb::around(p, q).expanded(half);
                 *m = p.distance(q);
             });
-        let vertex_box = &self.vertex_box;
+        self.normal.resize(rest.triangles.len(), Vec3::ZERO);
+        (&mut self.normal, &rest.triangles)
+            .into_par_iter()
+            .with_min_len(1024)
+            .for_each(|(n, t)| *n = unit_normal(t, x));
+        let (vertex_box, normal) = (&self.vertex_box, &self.normal);
         self.patch.resize(patches.len(), PatchBound::default());
         self.patch
             .par_iter_mut()
             .enumerate()
             .with_min_len(64)
-            .for_each_init(Vec::new, |normals, (p, bound)| {
+            .for_each(|(p, bound)| {
                 let aabb = patches
                     .corners(p)
                     .iter()
                     .fold(Aabb::EMPTY, |u, &k| u.union(vertex_box[k as usize]));
-                normals.clear();
-                normals.extend(
-                    patches
-                        .triangles(p)
-                        .iter()
-                        .map(|&t| unit_normal(&rest.triangles[t as usize], x)),
-                );
+                let normals = patches.triangles(p).iter().map(|&t| normal[t as usize]);
                 *bound = PatchBound {
                     aabb,
-                    cone: Smoothness::new(NormalCone::around(normals.iter().copied())),
+                    cone: Smoothness::new(NormalCone::around(normals)),
                 };
             });
         let patch = &self.patch;
@@ -205,7 +222,7 @@ struct Scan<'a> {
 
 /// The features of one patch whose boxes meet another patch's box, with
 /// their boxes and how far their particles moved in the substep.
-#[derive(Default)]
+#[derive(Clone, Debug, Default)]
 struct Near {
     vertices: Vec<(u32, Aabb, f32)>,
     triangles: Vec<([u32; 3], Aabb, f32)>,
@@ -247,9 +264,13 @@ impl Near {
 
 impl Scan<'_> {
     /// Candidates of cluster `c` with itself and with the clusters after it.
-    fn candidates_of(&self, c: usize) -> Vec<Contact> {
-        let mut out = Vec::new();
-        let (mut mine, mut theirs) = (Near::default(), Near::default());
+    fn candidates_of(&self, c: usize, scratch: &mut Scratch) {
+        let Scratch {
+            found: out,
+            mine,
+            theirs,
+        } = scratch;
+        out.clear();
         let (patch, cluster_box) = (&self.bounds.patch, &self.bounds.cluster_box);
         self.bounds.grid.for_each_overlapping(&cluster_box[c], |d| {
             let d = d as usize;
@@ -271,17 +292,16 @@ impl Scan<'_> {
                     if !same {
                         theirs.gather(self, q, &patch[a].aabb);
                     }
-                    let other = if same { &mine } else { &theirs };
-                    self.vertex_triangle(&mine, other, &mut out);
+                    let (mine, other) = (&*mine, if same { &*mine } else { &*theirs });
+                    self.vertex_triangle(mine, other, out);
                     if !same {
-                        self.vertex_triangle(other, &mine, &mut out);
+                        self.vertex_triangle(other, mine, out);
                     }
-                    self.particle_pairs(&mine, other, same, &mut out);
-                    self.edge_pairs(&mine, other, same, &mut out);
+                    self.particle_pairs(mine, other, same, out);
+                    self.edge_pairs(mine, other, same, out);
                 }
             }
         });
-        out
     }
 
     /// Whether clusters `c <= d` lie in one smooth piece of surface: one
