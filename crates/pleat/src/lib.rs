@@ -8,7 +8,6 @@
 //! ([`stability`]), the small linear algebra glam lacks ([`math`]) and mesh
 //! export ([`export`]).
 
-pub mod aabb;
 pub mod collide;
 pub mod constraint;
 pub mod export;

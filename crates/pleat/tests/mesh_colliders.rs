@@ -4,9 +4,8 @@
 //! a torus knot, a thin box), a two-triangle plate and the open Utah teapot;
 //! and a cloth draped on the generated torus knot.
 
-use pleat::aabb::Aabb;
 use pleat::collide::mesh_collider::{
-    closest_point_on_triangle, segment_triangle, winding_number_brute_force,
+    closest_point_on_triangle, segment_triangle, winding_number_brute_force, Aabb,
 };
 use pleat::collide::{MeshCollider, SdfGrid, Shape};
 use pleat::glam::{Quat, Vec3};

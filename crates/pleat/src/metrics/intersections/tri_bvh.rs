@@ -3,12 +3,47 @@
 //! box centres, stored as a flat node array, and traversed against itself to
 //! list every pair of overlapping boxes exactly once.
 
-use crate::aabb::Aabb;
-#[cfg(test)]
 use glam::Vec3;
 
 /// Most boxes in a leaf.
 const LEAF_SIZE: usize = 4;
+
+/// A closed axis-aligned box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Aabb {
+    pub(super) min: Vec3,
+    pub(super) max: Vec3,
+}
+
+impl Aabb {
+    const EMPTY: Self = Self {
+        min: Vec3::INFINITY,
+        max: Vec3::NEG_INFINITY,
+    };
+
+    pub(super) fn of_points(points: &[Vec3]) -> Self {
+        points.iter().fold(Self::EMPTY, |b, &p| Self {
+            min: b.min.min(p),
+            max: b.max.max(p),
+        })
+    }
+
+    fn union(self, other: Self) -> Self {
+        Self {
+            min: self.min.min(other.min),
+            max: self.max.max(other.max),
+        }
+    }
+
+    /// Touching boxes overlap.
+    fn overlaps(&self, other: &Self) -> bool {
+        self.min.cmple(other.max).all() && other.min.cmple(self.max).all()
+    }
+
+    fn centre(&self) -> Vec3 {
+        (self.min + self.max) * 0.5
+    }
+}
 
 /// A node: a leaf holds `count > 0` items from `first` in the item arrays;
 /// an inner node (`count == 0`) has its children at `first` and `first + 1`.
@@ -165,11 +200,13 @@ impl TriBvh {
 }
 
 fn longest_axis(items: &[(u32, Aabb)]) -> usize {
-    let centres = Aabb::of_points(items.iter().map(|(_, item)| item.centre()));
+    let centres = items.iter().fold(Aabb::EMPTY, |b, &(_, item)| {
+        let c = item.centre();
+        b.union(Aabb { min: c, max: c })
+    });
     (centres.max - centres.min).max_position()
 }
 
-/// Sum of the sides: which of two nodes to descend first.
 fn extent(b: &Aabb) -> f32 {
     (b.max - b.min).element_sum()
 }
@@ -179,7 +216,7 @@ mod tests {
     use super::*;
 
     fn unit_box_at(x: f32, y: f32, z: f32) -> Aabb {
-        Aabb::around(Vec3::new(x, y, z), Vec3::new(x + 1.0, y + 1.0, z + 1.0))
+        Aabb::of_points(&[Vec3::new(x, y, z), Vec3::new(x + 1.0, y + 1.0, z + 1.0)])
     }
 
     fn pairs(bvh: &TriBvh) -> Vec<(u32, u32)> {
