@@ -2,7 +2,7 @@
 //! (DESIGN.md section 5), as a table or one JSON object a line.
 
 use crate::report::{FrameTimes, StagesMs};
-use crate::{require_cpu, with_threads};
+use crate::{check_backend, use_backend, with_threads};
 use pleat::metrics::stretch;
 use pleat::scene::presets::hanging_cloth;
 use serde::Serialize;
@@ -44,6 +44,8 @@ pub struct BenchArgs {
 #[derive(Serialize)]
 struct BenchLine {
     backend: &'static str,
+    /// The device that ran it (a GPU adapter's name).
+    device: String,
     n: u32,
     particles: usize,
     substeps: u32,
@@ -59,7 +61,7 @@ struct BenchLine {
 }
 
 pub fn bench(args: &BenchArgs) -> Result<ExitCode, String> {
-    require_cpu(&args.backend)?;
+    check_backend(&args.backend)?;
     if let Some(&n) = args.sizes.iter().find(|&&n| !(2..=4096).contains(&n)) {
         return Err(format!("--sizes: {n} is out of range: sizes are 2 to 4096"));
     }
@@ -97,21 +99,26 @@ fn measure(args: &BenchArgs, n: u32) -> Result<BenchLine, String> {
     let mut sim = scene
         .build(Path::new("."), &scene.name)
         .map_err(|e| e.to_string())?;
+    use_backend(&mut sim, &args.backend)?;
     let dt = scene.frame_dt();
     for _ in 0..args.warmup {
         sim.step(dt);
     }
+    sim.finish();
     sim.stages = Default::default();
     let times: Vec<_> = (0..args.frames)
         .map(|_| {
             let start = Instant::now();
             sim.step(dt);
+            sim.finish();
             start.elapsed()
         })
         .collect();
+    sim.sync();
     let t = FrameTimes::from(&times);
     Ok(BenchLine {
-        backend: "cpu",
+        backend: sim.backend_name(),
+        device: sim.device(),
         n,
         particles: sim.particles.len(),
         substeps: args.substeps,

@@ -30,6 +30,9 @@ pub struct FoldArgs {
     /// frames to settle).
     #[arg(long, default_value_t = 120)]
     pub frames: u32,
+    /// cpu or gpu.
+    #[arg(long, default_value = "cpu")]
+    pub backend: String,
     #[command(flatten)]
     pub output: OutputArgs,
 }
@@ -49,11 +52,12 @@ pub fn fold(args: &FoldArgs) -> Result<ExitCode, String> {
         frames: args.frames,
     };
     let mut sim = paper_simulation(&sheet, ramp);
+    crate::use_backend(&mut sim, &args.backend)?;
     let frame_dt = 1.0 / FPS;
     let frames = (args.frames + SETTLE_FRAMES, frame_dt);
     let (frame_times, output) = run_frames(&mut sim, &name, frames, &args.output)?;
     let threads = rayon_threads(args.output.threads)?;
-    let report = Report::named(&sim, &name, frame_dt, "cpu", &frame_times, threads);
+    let report = Report::named(&sim, &name, frame_dt, &frame_times, threads);
     crate::print_line(format_args!(
         "{}: {} vertices, {} triangles, {} creases",
         name,

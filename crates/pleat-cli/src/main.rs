@@ -10,6 +10,7 @@ mod report;
 mod run;
 
 use clap::{Parser, Subcommand};
+use pleat::Simulation;
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -78,11 +79,28 @@ fn with_threads<R: Send>(
     Ok(pool.install(f))
 }
 
-/// Refuses the GPU backend until it exists.
-fn require_cpu(backend: &str) -> Result<(), String> {
+/// Refuses a backend name other than `cpu` and `gpu`.
+fn check_backend(backend: &str) -> Result<(), String> {
     match backend {
-        "cpu" => Ok(()),
-        "gpu" => Err("the GPU backend is not part of this build yet; use --backend cpu".into()),
+        "cpu" | "gpu" => Ok(()),
         other => Err(format!("unknown backend '{other}': use cpu or gpu")),
     }
+}
+
+/// Moves `sim` onto the backend named `backend` (`cpu` keeps it where it
+/// is). The GPU backend's notes (mesh colliders baked into distance fields)
+/// go to stderr; no adapter, or a scene feature the GPU lacks, is an error.
+fn use_backend(sim: &mut Simulation, backend: &str) -> Result<(), String> {
+    check_backend(backend)?;
+    if backend == "gpu" {
+        let context = pleat_gpu::GpuContext::new().map_err(|e| e.to_string())?;
+        let (gpu, notes) =
+            pleat_gpu::GpuBackend::new(&context, &sim.model, &sim.world, &sim.settings)
+                .map_err(|e| e.to_string())?;
+        for note in notes {
+            eprintln!("note: {note}");
+        }
+        sim.replace_backend(Box::new(gpu));
+    }
+    Ok(())
 }

@@ -12,6 +12,8 @@ use std::time::Duration;
 pub struct Report {
     pub scene: String,
     pub backend: String,
+    /// The device that stepped the simulation (a GPU adapter's name).
+    pub device: String,
     /// Serialised by its scene-file name (`xpbd`, ...).
     pub solver: SolverKind,
     pub frames: u32,
@@ -94,21 +96,8 @@ impl StagesMs {
 
 impl Report {
     /// The report of `sim` after its run.
-    pub fn new(
-        sim: &Simulation,
-        scene: &Scene,
-        backend: &str,
-        frame_times: &[Duration],
-        threads: usize,
-    ) -> Self {
-        Self::named(
-            sim,
-            &scene.name,
-            scene.frame_dt(),
-            backend,
-            frame_times,
-            threads,
-        )
+    pub fn new(sim: &Simulation, scene: &Scene, frame_times: &[Duration], threads: usize) -> Self {
+        Self::named(sim, &scene.name, scene.frame_dt(), frame_times, threads)
     }
 
     /// The report of `sim` after a run of frames of `frame_dt` seconds,
@@ -117,7 +106,6 @@ impl Report {
         sim: &Simulation,
         name: &str,
         frame_dt: f32,
-        backend: &str,
         frame_times: &[Duration],
         threads: usize,
     ) -> Self {
@@ -125,7 +113,8 @@ impl Report {
         let frames = frame_times.len() as u32;
         Report {
             scene: name.into(),
-            backend: backend.into(),
+            backend: sim.backend_name().into(),
+            device: sim.device(),
             solver: sim.settings.kind,
             frames,
             frame_dt,

@@ -2,7 +2,7 @@
 
 use crate::output::{Output, OutputArgs};
 use crate::report::Report;
-use crate::{require_cpu, with_threads};
+use crate::{check_backend, use_backend, with_threads};
 use indicatif::{ProgressBar, ProgressStyle};
 use pleat::scene::Scene;
 use pleat::Simulation;
@@ -31,16 +31,18 @@ pub struct RunArgs {
 }
 
 pub fn run(args: &RunArgs) -> Result<ExitCode, String> {
-    require_cpu(if args.backend.is_empty() {
+    let backend = if args.backend.is_empty() {
         "cpu"
     } else {
         &args.backend
-    })?;
+    };
+    check_backend(backend)?;
     let (mut scene, file, base_dir) = load(args.scene.as_deref()).map_err(|e| e.to_string())?;
     if let Some(frames) = args.frames {
         scene.frames = frames;
     }
     let mut sim = scene.build(&base_dir, &file).map_err(|e| e.to_string())?;
+    use_backend(&mut sim, backend)?;
     let (frame_times, output) = run_frames(
         &mut sim,
         &scene.name,
@@ -50,7 +52,6 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, String> {
     let report = Report::new(
         &sim,
         &scene,
-        "cpu",
         &frame_times,
         rayon_threads(args.output.threads)?,
     );
@@ -118,6 +119,10 @@ pub fn load(path: Option<&Path>) -> Result<(Scene, String, PathBuf), pleat::scen
     }
 }
 
+/// Frames between two reads of a GPU backend's state for the instability
+/// watch, when no export reads it anyway (a CPU backend checks every frame).
+const STABILITY_CHECK_FRAMES: u32 = 10;
+
 /// Steps through `frames` frames of `frame_dt` seconds, exporting every
 /// `every`-th; returns each frame's time.
 pub fn simulate(
@@ -140,14 +145,18 @@ pub fn simulate(
     for frame in 1..=frames {
         let start = Instant::now();
         sim.step(frame_dt);
+        sim.finish();
         times.push(start.elapsed());
-        if let Some(out) = output.as_deref_mut() {
-            if frame % every == 0 {
-                out.frame(frame, sim)?;
-            }
+        let export = output.is_some() && frame % every == 0;
+        if export || frame % STABILITY_CHECK_FRAMES == 0 {
+            sim.sync();
+        }
+        if let (Some(out), true) = (output.as_deref_mut(), export) {
+            out.frame(frame, sim)?;
         }
         bar.inc(1);
     }
+    sim.sync();
     bar.finish_and_clear();
     Ok(times)
 }

@@ -224,10 +224,72 @@ fn bench_json_lines() {
 }
 
 #[test]
-fn gpu_backend_is_refused_with_a_message() {
-    let out = pleat(&["run", "--backend", "gpu", "--frames", "1"]);
+fn gpu_backend_runs_and_names_its_adapter() {
+    let dir = out_dir("gpu");
+    pleat_ok(&[
+        "run",
+        "--backend",
+        "gpu",
+        "--frames",
+        "3",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    assert_eq!(report["backend"], "gpu");
+    assert!(!report["device"].as_str().unwrap().is_empty(), "{report}");
+    assert_eq!(report["nan"], false);
+    let out = pleat_ok(&[
+        "bench",
+        "--backend",
+        "gpu",
+        "--sizes",
+        "8",
+        "--frames",
+        "2",
+        "--warmup",
+        "0",
+        "--json",
+    ]);
+    let line: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(
+        (line["backend"].as_str(), line["particles"].as_u64()),
+        (Some("gpu"), Some(64))
+    );
+    assert!(
+        line["device"].as_str().is_some_and(|d| !d.is_empty()),
+        "{line}"
+    );
+}
+
+#[test]
+fn gpu_backend_refuses_what_it_lacks_and_a_missing_adapter() {
+    let out = pleat(&[
+        "run",
+        "scenes/fold_onto_itself.json",
+        "--backend",
+        "gpu",
+        "--frames",
+        "1",
+    ]);
     assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("GPU backend is not part of this build"));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("solver.self_collision"));
+    // Vulkan is the only backend built for Linux: without a driver there is no adapter.
+    let out = Command::new(env!("CARGO_BIN_EXE_pleat"))
+        .args(["run", "--backend", "gpu", "--frames", "1"])
+        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+        .env("WGPU_BACKEND", "vulkan")
+        .env("VK_DRIVER_FILES", "/nonexistent/icd.json")
+        .env("VK_ICD_FILENAMES", "/nonexistent/icd.json")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("no GPU adapter"), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    let out = pleat(&["run", "--backend", "tpu", "--frames", "1"]);
+    assert_eq!(out.status.code(), Some(2));
 }
 
 #[test]

@@ -8,6 +8,7 @@
 //! ([`stability`]), the small linear algebra glam lacks ([`math`]) and mesh
 //! export ([`export`]).
 
+pub mod backend;
 pub mod collide;
 pub mod constraint;
 pub mod export;
@@ -27,6 +28,7 @@ pub mod stability;
 mod test_rng;
 pub mod world;
 
+pub use backend::{Backend, CpuBackend};
 pub use glam;
 pub use material::Material;
 pub use model::Model;

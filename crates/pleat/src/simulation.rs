@@ -1,18 +1,25 @@
-//! A running simulation: the model, the world, the particles and the solver
-//! that advances them, with per-stage timings and a watch for instability.
+//! A running simulation: the model, the world, the particles and the
+//! backend that advances them, with per-stage timings and a watch for
+//! instability.
 
+use crate::backend::{Backend, CpuBackend};
+use crate::constraint::Grab;
 use crate::metrics::Metrics;
 use crate::model::Model;
 use crate::origami::FoldRamp;
 use crate::particles::Particles;
-use crate::solver::{self, Solver, SolverSettings, StageTimes};
+use crate::solver::{SolverSettings, StageTimes};
 use crate::stability::StabilityMonitor;
 use crate::world::World;
 
 pub struct Simulation {
     pub model: Model,
+    /// Gravity, wind, colliders and the grabbed particle: read at every step.
     pub world: World,
+    /// The state. With a backend that does not step in place (the GPU),
+    /// current only after [`Simulation::sync`].
     pub particles: Particles,
+    /// Read at every step: substeps, iterations and damping change live.
     pub settings: SolverSettings,
     pub stages: StageTimes,
     /// Fold progress animated over the first frames (origami); `None`
@@ -22,14 +29,27 @@ pub struct Simulation {
     frames_stepped: u32,
     /// Set when the solver first produces NaN/inf or runaway stretch.
     pub stability: StabilityMonitor,
-    solver: Box<dyn Solver>,
+    backend: Box<dyn Backend>,
+    /// Whether `particles` holds the backend's current state.
+    synced: bool,
 }
 
 impl Simulation {
+    /// A simulation at rest on the CPU backend.
     pub fn new(model: Model, world: World, settings: SolverSettings) -> Self {
-        let solver = solver::build(&model, &settings);
+        let backend = Box::new(CpuBackend::new(&model, &settings));
+        Self::with_backend(model, world, settings, backend)
+    }
+
+    /// A simulation at rest on the given backend (built for `model`).
+    pub fn with_backend(
+        model: Model,
+        world: World,
+        settings: SolverSettings,
+        backend: Box<dyn Backend>,
+    ) -> Self {
         let particles = Particles::new(model.rest.clone(), &model.mass);
-        Simulation {
+        let mut sim = Simulation {
             model,
             world,
             particles,
@@ -39,8 +59,67 @@ impl Simulation {
             fold_progress: 0.0,
             frames_stepped: 0,
             stability: StabilityMonitor::default(),
-            solver,
+            backend,
+            synced: true,
+        };
+        sim.backend.upload(&sim.particles);
+        sim
+    }
+
+    /// Moves the simulation onto another backend (built for this model),
+    /// keeping its state, clock and fold progress.
+    pub fn replace_backend(&mut self, backend: Box<dyn Backend>) {
+        self.sync();
+        self.backend = backend;
+        self.backend.upload(&self.particles);
+        self.backend.set_fold_progress(self.fold_progress);
+    }
+
+    /// Rebuilds the CPU solver that [`Simulation::settings`] name (after a
+    /// change of solver kind or of self-collision settings), keeping the state.
+    pub fn rebuild_cpu(&mut self) {
+        let backend = Box::new(CpuBackend::new(&self.model, &self.settings));
+        self.replace_backend(backend);
+    }
+
+    /// `"cpu"` or `"gpu"`.
+    pub fn backend_name(&self) -> &'static str {
+        self.backend.name()
+    }
+
+    /// The device stepping the simulation (a GPU adapter's name).
+    pub fn device(&self) -> String {
+        self.backend.device()
+    }
+
+    /// Brings [`Simulation::particles`] up to date with the backend (a
+    /// blocking read from a GPU) and checks the state for instability.
+    pub fn sync(&mut self) -> &Particles {
+        if !self.synced {
+            self.backend.download(&mut self.particles);
+            self.synced = true;
+            self.stability
+                .check(&self.model, &self.world, &self.particles);
         }
+        &self.particles
+    }
+
+    /// Waits until the steps handed to the backend have run (GPU timing).
+    pub fn finish(&mut self) {
+        self.backend.finish();
+    }
+
+    /// Hands edited [`Simulation::particles`] back to the backend.
+    pub fn upload(&mut self) {
+        self.backend.upload(&self.particles);
+        self.synced = true;
+    }
+
+    /// Drags `particle` towards `target` from the next step on (compliance
+    /// zero puts it there), or lets go with `None`. Indices past the last
+    /// particle are ignored.
+    pub fn grab(&mut self, grab: Option<Grab>) {
+        self.world.grab = grab.filter(|g| (g.particle as usize) < self.particles.len());
     }
 
     /// Advances by one frame of `frame_dt` seconds.
@@ -48,23 +127,28 @@ impl Simulation {
         if let Some(ramp) = self.fold_ramp {
             self.set_fold_progress(ramp.at(self.frames_stepped + 1));
         }
-        self.solver.step(
+        self.backend.step(
             &mut self.particles,
             &mut self.world,
+            &self.settings,
             frame_dt,
             &mut self.stages,
         );
         self.world.time += frame_dt;
         self.frames_stepped += 1;
-        self.stability
-            .check(&self.model, &self.world, &self.particles);
+        if self.backend.steps_in_place() {
+            self.stability
+                .check(&self.model, &self.world, &self.particles);
+        } else {
+            self.synced = false;
+        }
     }
 
     /// Sets the fold progress `c` (clamped to `[0, 1]`): every origami
     /// hinge is driven to `c` times its full fold angle, without rebuilding.
     pub fn set_fold_progress(&mut self, c: f32) {
         self.fold_progress = if c.is_nan() { 0.0 } else { c.clamp(0.0, 1.0) };
-        self.solver.set_fold_progress(self.fold_progress);
+        self.backend.set_fold_progress(self.fold_progress);
     }
 
     /// The fold progress last set.
@@ -73,10 +157,10 @@ impl Simulation {
     }
 
     pub fn constraint_count(&self) -> usize {
-        self.solver.constraint_count()
+        self.backend.constraint_count()
     }
 
-    /// Quality figures of the current state.
+    /// Quality figures of the state last synced ([`Simulation::sync`]).
     pub fn metrics(&self) -> Metrics {
         let mut m = Metrics::measure(&self.model, &self.world, &self.particles);
         m.unstable |= self.stability.is_unstable();

@@ -81,6 +81,16 @@ impl SdfGrid {
         Ok(grid)
     }
 
+    /// Position of node `(0, 0, 0)`.
+    pub fn origin(&self) -> Vec3 {
+        self.origin
+    }
+
+    /// Distances at the nodes, node `(i, j, k)` at `i + dims[0] * (j + dims[1] * k)`.
+    pub fn values(&self) -> &[f32] {
+        &self.values
+    }
+
     pub fn cell_size(&self) -> f32 {
         self.cell_size
     }

@@ -62,6 +62,35 @@ impl Constraint for Attachment {
     }
 }
 
+/// A particle dragged towards a target that the caller moves (a point of
+/// the cloth grabbed with the mouse): one XPBD attachment step per substep,
+/// after the cloth's constraints, from a zero multiplier. A pinned particle
+/// stays where its pin holds it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Grab {
+    pub particle: u32,
+    pub target: Vec3,
+    /// Inverse stiffness (m/N); zero puts the particle on the target.
+    pub compliance: f32,
+}
+
+impl Grab {
+    /// Pulls the grabbed particle towards the target over a substep of `dt`.
+    pub fn project(&self, x: &mut [Vec3], inv_mass: &[f32], dt: f32) {
+        let i = self.particle as usize;
+        let (Some(xi), Some(&w)) = (x.get_mut(i), inv_mass.get(i)) else {
+            return;
+        };
+        let d = *xi - self.target;
+        let c = d.length();
+        if w == 0.0 || c <= f32::EPSILON {
+            return;
+        }
+        let alpha = self.compliance / (dt * dt);
+        *xi -= d / c * (w * c / (w + alpha));
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -74,6 +103,27 @@ mod tests {
         let mut lambda = 0.0;
         a.project(&mut lambda, SharedPositions::new(&mut x), &[1.0], 3600.0);
         assert!(x[0].x > 0.0 && x[0].x < 1.0, "{x:?}");
+    }
+
+    #[test]
+    fn grab_pulls_stiffly_or_softly_and_leaves_pins() {
+        let mut x = vec![Vec3::X, Vec3::Y];
+        let hard = Grab {
+            particle: 0,
+            target: Vec3::ZERO,
+            compliance: 0.0,
+        };
+        hard.project(&mut x, &[1.0, 0.0], 0.01);
+        assert!(x[0].length() < 1e-6, "{x:?}");
+        let soft = Grab {
+            particle: 1,
+            target: Vec3::ZERO,
+            compliance: 1e-4,
+        };
+        soft.project(&mut x, &[1.0, 0.0], 0.01);
+        assert_eq!(x[1], Vec3::Y, "a pinned particle stays");
+        soft.project(&mut x, &[1.0, 1.0], 0.01);
+        assert!(x[1].y > 0.0 && x[1].y < 1.0, "{x:?}");
     }
 
     #[test]

@@ -16,7 +16,8 @@ use glam::{Vec3, Vec3A};
 use std::f32::consts::{PI, TAU};
 
 /// Bending resistance of one interior edge.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct DihedralBending {
     /// Shared edge `v[0], v[1]`, wings `v[2]`, `v[3]` (see [`crate::mesh::TrianglePair`]).
     pub v: [u32; 4],

@@ -4,7 +4,8 @@
 use crate::solver::parallel::{Constraint, SharedPositions};
 use glam::Vec3;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct DistanceConstraint {
     pub v: [u32; 2],
     pub rest_length: f32,

@@ -27,7 +27,8 @@ pub const MAX_TARGET_ANGLE: f32 = 178.0 * PI / 180.0;
 const MAX_TRACKED_ANGLE: f32 = 1.25 * PI;
 
 /// A fold line of a crease pattern, or a facet diagonal kept flat.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct OrigamiHinge {
     /// Shared edge `v[0], v[1]`, wings `v[2]`, `v[3]` (see [`crate::mesh::TrianglePair`]).
     pub v: [u32; 4],

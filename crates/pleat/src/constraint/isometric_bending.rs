@@ -16,7 +16,8 @@ use glam::{Vec3, Vec3A};
 /// Folds below this (radians) are left alone: their direction is round-off.
 const FLAT_ENOUGH: f32 = 1e-6;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct IsometricBending {
     pub v: [u32; 4],
     /// Cotangent weights divided by the rest edge length.

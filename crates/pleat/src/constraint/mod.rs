@@ -17,7 +17,7 @@ pub mod isometric_bending;
 pub mod shape_matching;
 pub mod tether;
 
-pub use attachment::Attachment;
+pub use attachment::{Attachment, Grab};
 pub use bending::DihedralBending;
 pub use distance::DistanceConstraint;
 pub use hinge::OrigamiHinge;

@@ -7,7 +7,8 @@ use crate::solver::parallel::{Constraint, SharedPositions};
 use glam::Vec3;
 use std::ops::Range;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Tether {
     /// The tethered particle (the only one the projection moves).
     pub particle: [u32; 1],

@@ -30,6 +30,29 @@ pub fn load_obj(path: &Path) -> Result<Mesh, ObjError> {
     Ok(mesh)
 }
 
+/// Reads OBJ text held in memory (a dropped file, a file in a web page);
+/// `file` names it in errors. Material libraries are not read.
+pub fn parse_obj(text: &str, file: &str) -> Result<Mesh, ObjError> {
+    let error = |reason: String| ObjError {
+        file: file.to_string(),
+        reason,
+    };
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        single_index: true,
+        ignore_points: true,
+        ignore_lines: true,
+    };
+    let mut reader = std::io::Cursor::new(text.as_bytes());
+    let (models, _) = tobj::load_obj_buf(&mut reader, &options, |_| {
+        Err(tobj::LoadError::OpenFileFailed)
+    })
+    .map_err(|e| error(describe(e)))?;
+    let mesh = merge(&models);
+    validate(&mesh).map_err(error)?;
+    Ok(mesh)
+}
+
 fn describe(e: tobj::LoadError) -> String {
     match e {
         tobj::LoadError::OpenFileFailed => "cannot open the file".into(),
@@ -102,6 +125,23 @@ mod tests {
         let mesh = load_obj(&path).unwrap();
         assert_eq!(mesh.positions.len(), 4);
         assert_eq!(mesh.triangles.len(), 2);
+    }
+
+    #[test]
+    fn text_in_memory_reads_as_the_file_would() {
+        let mesh = parse_obj(
+            "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n",
+            "drop.obj",
+        )
+        .unwrap();
+        assert_eq!((mesh.positions.len(), mesh.triangles.len()), (4, 2));
+        let e = parse_obj("v 0 0 0\nf 1 2 7\n", "drop.obj")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("drop.obj") && e.contains("does not exist"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -66,6 +66,7 @@ impl Scene {
             gravity: self.gravity,
             wind: self.wind,
             colliders,
+            grab: None,
             time: 0.0,
         };
         Ok((model, world))

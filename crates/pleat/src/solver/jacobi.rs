@@ -73,6 +73,11 @@ impl super::Solver for JacobiPbd {
         self.constraints.len() + self.frame.pin_count()
     }
 
+    fn set_settings(&mut self, settings: &SolverSettings) {
+        self.frame.set_settings(settings);
+        self.relaxation = settings.relaxation;
+    }
+
     fn step(
         &mut self,
         particles: &mut Particles,

@@ -96,6 +96,9 @@ impl MassSpring {
         StageTimes::time(&mut stages.predict, || {
             self.integrate(p, dt);
             self.hard_pins.place(&mut p.x, t + dt);
+            if let Some(grab) = &world.grab {
+                grab.project(&mut p.x, &p.inv_mass, dt);
+            }
         });
         self.contacts.resolve(p, world, t, dt, stages);
         let inv_dt = 1.0 / dt;
@@ -178,6 +181,11 @@ impl super::Solver for MassSpring {
 
     fn constraint_count(&self) -> usize {
         self.springs.len() + self.hard_pins.len() + self.soft_pins.len()
+    }
+
+    fn set_settings(&mut self, settings: &SolverSettings) {
+        self.substeps = settings.substeps.max(1);
+        self.keep = 1.0 - settings.global_damping / 100.0;
     }
 
     fn step(

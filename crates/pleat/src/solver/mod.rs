@@ -21,7 +21,8 @@ use crate::model::Model;
 use crate::particles::Particles;
 use crate::world::World;
 use serde::{Deserialize, Serialize};
-use std::time::{Duration, Instant};
+use std::time::Duration;
+use web_time::Instant;
 
 /// Which algorithm steps the cloth.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -122,11 +123,7 @@ impl StageTimes {
 
 /// The start time and length of each of the `substeps` equal substeps of a
 /// frame of `frame_dt` starting at `start` (one at least).
-pub(super) fn substep_times(
-    start: f32,
-    frame_dt: f32,
-    substeps: u32,
-) -> impl Iterator<Item = (f32, f32)> {
+pub fn substep_times(start: f32, frame_dt: f32, substeps: u32) -> impl Iterator<Item = (f32, f32)> {
     let n = substeps.max(1);
     let dt = frame_dt / n as f32;
     (0..n).map(move |s| (start + s as f32 * dt, dt))
@@ -138,6 +135,11 @@ pub trait Solver: Send {
 
     /// Number of constraints (or springs) the solver projects per iteration.
     fn constraint_count(&self) -> usize;
+
+    /// Takes the settings a person changed while the simulation runs
+    /// (substeps, iterations, damping, relaxation) for the next step;
+    /// self-collision settings need a rebuild.
+    fn set_settings(&mut self, settings: &SolverSettings);
 
     /// Advances `particles` by `frame_dt` in `world`, starting at `world.time`.
     fn step(

@@ -57,6 +57,11 @@ impl HardPins {
         self.0.is_empty()
     }
 
+    /// The pins, in the order their targets are placed.
+    pub fn attachments(&self) -> &[Attachment] {
+        &self.0
+    }
+
     /// Puts every pinned particle where its motion has its target at time `t`.
     pub fn place(&mut self, x: &mut [Vec3], t: f32) {
         for a in &mut self.0 {
@@ -224,6 +229,11 @@ impl PbdLoop {
         }
     }
 
+    /// Takes new substep, iteration and damping settings for the next step.
+    pub fn set_settings(&mut self, settings: &SolverSettings) {
+        self.settings = *settings;
+    }
+
     /// Pins of both kinds.
     pub fn pin_count(&self) -> usize {
         self.prediction.hard_pin_count() + self.soft_pins.len()
@@ -263,6 +273,9 @@ impl PbdLoop {
             for _ in 0..self.settings.iterations {
                 project(p);
                 self.soft_pins.solve(&mut p.x, &p.inv_mass, inv_dt2);
+            }
+            if let Some(grab) = &world.grab {
+                grab.project(&mut p.x, &p.inv_mass, dt);
             }
         });
         self.contacts.resolve(p, world, t, dt, stages);

@@ -72,6 +72,10 @@ impl super::Solver for PbdShapeMatching {
         self.triangles.len() + self.pairs.len() + self.frame.pin_count()
     }
 
+    fn set_settings(&mut self, settings: &SolverSettings) {
+        self.frame.set_settings(settings);
+    }
+
     fn step(
         &mut self,
         particles: &mut Particles,

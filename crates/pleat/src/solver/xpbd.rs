@@ -6,7 +6,7 @@
 //! change of position.
 
 use super::parallel::ColoredConstraints;
-use super::position_based::{inverse_masses, Contacts, Prediction};
+use super::position_based::{attachments, inverse_masses, Contacts, Prediction};
 use super::springs::skip_one_pairs;
 use super::{SolverKind, SolverSettings, StageTimes};
 use crate::collide::SelfContacts;
@@ -25,15 +25,7 @@ const TETHERS_PER_PARTICLE: usize = 2;
 
 pub struct Xpbd {
     settings: SolverSettings,
-    /// Stretch, shear and skip-one bending edges.
-    distance: ColoredConstraints<DistanceConstraint>,
-    bending: ColoredConstraints<DihedralBending>,
-    isometric: ColoredConstraints<IsometricBending>,
-    /// Origami hinges of paper parts.
-    hinges: ColoredConstraints<OrigamiHinge>,
-    tethers: ColoredConstraints<Tether>,
-    /// Attachments with compliance: solved with the other constraints.
-    soft_attachments: ColoredConstraints<Attachment>,
+    constraints: XpbdConstraints,
     /// Wind, prediction and the hard pins (attachments with compliance zero).
     prediction: Prediction,
     contacts: Contacts,
@@ -41,8 +33,25 @@ pub struct Xpbd {
     self_contacts: Option<SelfContacts>,
 }
 
-impl Xpbd {
-    pub fn new(model: &Model, settings: &SolverSettings) -> Self {
+/// The cloth's own constraints as XPBD projects them, each kind coloured
+/// and sorted by colour: plain `#[repr(C)]` data that every backend
+/// projects in the same order (hinges, distances, bending, isometric
+/// bending, soft attachments, tethers), colour after colour.
+pub struct XpbdConstraints {
+    /// Stretch, shear and skip-one bending edges.
+    pub distance: ColoredConstraints<DistanceConstraint>,
+    pub bending: ColoredConstraints<DihedralBending>,
+    pub isometric: ColoredConstraints<IsometricBending>,
+    /// Origami hinges of paper parts.
+    pub hinges: ColoredConstraints<OrigamiHinge>,
+    pub tethers: ColoredConstraints<Tether>,
+    /// Attachments with compliance: solved with the other constraints.
+    pub soft_attachments: ColoredConstraints<Attachment>,
+}
+
+impl XpbdConstraints {
+    /// Builds and colours the constraints of every cloth of `model`.
+    pub fn new(model: &Model) -> Self {
         let n = model.particle_count();
         let inv_mass = inverse_masses(model);
         let mut distance = Vec::new();
@@ -83,15 +92,75 @@ impl Xpbd {
                 ));
             }
         }
-        let (prediction, soft) = Prediction::new(model);
-        Xpbd {
-            settings: *settings,
+        let (_, soft) = attachments(model);
+        XpbdConstraints {
             distance: ColoredConstraints::new(distance, n),
             bending: ColoredConstraints::new(bending, n),
             isometric: ColoredConstraints::new(isometric, n),
             hinges: ColoredConstraints::new(hinges, n),
             tethers: ColoredConstraints::new(tethers, n),
             soft_attachments: ColoredConstraints::new(soft, n),
+        }
+    }
+
+    /// Number of constraints projected per iteration.
+    pub fn len(&self) -> usize {
+        self.distance.len()
+            + self.bending.len()
+            + self.isometric.len()
+            + self.hinges.len()
+            + self.tethers.len()
+            + self.soft_attachments.len()
+    }
+
+    /// Whether there is no constraint at all.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Drives every origami hinge to `c` times its full fold angle.
+    pub fn set_fold_progress(&mut self, c: f32) {
+        for h in &mut self.hinges.items {
+            h.set_progress(c);
+        }
+    }
+
+    /// One substep's projection: `iterations` Gauss-Seidel sweeps from zero
+    /// multipliers with the soft attachments' targets at `t_end`, then the
+    /// hinges' tracked angles.
+    fn project(&mut self, p: &mut Particles, iterations: u32, t_end: f32, dt: f32) {
+        let inv_dt2 = 1.0 / (dt * dt);
+        for a in &mut self.soft_attachments.items {
+            a.update_target(t_end);
+        }
+        self.distance.reset_lambda();
+        self.bending.reset_lambda();
+        self.isometric.reset_lambda();
+        self.hinges.reset_lambda();
+        self.soft_attachments.reset_lambda();
+        for _ in 0..iterations {
+            self.hinges.solve(&mut p.x, &p.inv_mass, inv_dt2);
+            self.distance.solve(&mut p.x, &p.inv_mass, inv_dt2);
+            self.bending.solve(&mut p.x, &p.inv_mass, inv_dt2);
+            self.isometric.solve(&mut p.x, &p.inv_mass, inv_dt2);
+            self.soft_attachments.solve(&mut p.x, &p.inv_mass, inv_dt2);
+            self.tethers.solve(&mut p.x, &p.inv_mass, inv_dt2);
+        }
+        let x = &p.x;
+        self.hinges
+            .items
+            .par_iter_mut()
+            .with_min_len(2048)
+            .for_each(|h| h.track(|i| x[i as usize]));
+    }
+}
+
+impl Xpbd {
+    pub fn new(model: &Model, settings: &SolverSettings) -> Self {
+        let (prediction, _) = Prediction::new(model);
+        Xpbd {
+            settings: *settings,
+            constraints: XpbdConstraints::new(model),
             prediction,
             contacts: Contacts::new(model),
             self_contacts: settings
@@ -113,7 +182,11 @@ impl Xpbd {
         self.prediction
             .run(p, world, self.settings.damping, t, dt, stages);
         StageTimes::time(&mut stages.constraints, || {
-            self.project_constraints(p, t + dt, dt)
+            self.constraints
+                .project(p, self.settings.iterations, t + dt, dt);
+            if let Some(grab) = &world.grab {
+                grab.project(&mut p.x, &p.inv_mass, dt);
+            }
         });
         if let Some(self_contacts) = &mut self.self_contacts {
             let found = StageTimes::time(&mut stages.self_collision, || {
@@ -125,32 +198,6 @@ impl Xpbd {
         self.contacts.resolve(p, world, t, dt, stages);
         StageTimes::time(&mut stages.predict, || update_velocities(p, dt));
     }
-
-    fn project_constraints(&mut self, p: &mut Particles, t_end: f32, dt: f32) {
-        let inv_dt2 = 1.0 / (dt * dt);
-        for a in &mut self.soft_attachments.items {
-            a.update_target(t_end);
-        }
-        self.distance.reset_lambda();
-        self.bending.reset_lambda();
-        self.isometric.reset_lambda();
-        self.hinges.reset_lambda();
-        self.soft_attachments.reset_lambda();
-        for _ in 0..self.settings.iterations {
-            self.hinges.solve(&mut p.x, &p.inv_mass, inv_dt2);
-            self.distance.solve(&mut p.x, &p.inv_mass, inv_dt2);
-            self.bending.solve(&mut p.x, &p.inv_mass, inv_dt2);
-            self.isometric.solve(&mut p.x, &p.inv_mass, inv_dt2);
-            self.soft_attachments.solve(&mut p.x, &p.inv_mass, inv_dt2);
-            self.tethers.solve(&mut p.x, &p.inv_mass, inv_dt2);
-        }
-        let x = &p.x;
-        self.hinges
-            .items
-            .par_iter_mut()
-            .with_min_len(2048)
-            .for_each(|h| h.track(|i| x[i as usize]));
-    }
 }
 
 impl super::Solver for Xpbd {
@@ -159,19 +206,19 @@ impl super::Solver for Xpbd {
     }
 
     fn constraint_count(&self) -> usize {
-        self.distance.len()
-            + self.bending.len()
-            + self.isometric.len()
-            + self.hinges.len()
-            + self.tethers.len()
-            + self.soft_attachments.len()
-            + self.prediction.hard_pin_count()
+        self.constraints.len() + self.prediction.hard_pin_count()
+    }
+
+    fn set_settings(&mut self, settings: &SolverSettings) {
+        // The self-collision settings shape the broad phase: kept as built.
+        self.settings = SolverSettings {
+            self_collision: self.settings.self_collision,
+            ..*settings
+        };
     }
 
     fn set_fold_progress(&mut self, c: f32) {
-        for h in &mut self.hinges.items {
-            h.set_progress(c);
-        }
+        self.constraints.set_fold_progress(c);
     }
 
     fn step(

@@ -1,0 +1,143 @@
+// Shared by every kernel: the particle state (group 0) and helpers.
+// Positions carry the inverse mass in w (zero for pinned particles).
+
+struct Params {
+    gravity: vec3<f32>,
+    dt: f32,
+    wind_velocity: vec3<f32>,
+    inv_dt2: f32,
+    t: f32,
+    keep: f32,
+    progress: f32,
+    substep: u32,
+    particle_count: u32,
+    triangle_count: u32,
+    pin_count: u32,
+    collider_count: u32,
+    wind_on: u32,
+    drag: f32,
+    lift: f32,
+    air_density: f32,
+    turbulence: f32,
+    turbulence_scale: f32,
+    turbulence_frequency: f32,
+    grab_particle: u32,
+    grab_target: vec3<f32>,
+    grab_compliance: f32,
+}
+
+// The slice of a constraint array one dispatch works on (one colour).
+struct Range {
+    first: u32,
+    count: u32,
+}
+
+@group(0) @binding(0) var<storage, read_write> pos: array<vec4<f32>>;
+@group(0) @binding(1) var<storage, read_write> prev: array<vec4<f32>>;
+@group(0) @binding(2) var<storage, read_write> vel: array<vec4<f32>>;
+@group(0) @binding(3) var<uniform> params: Params;
+
+const WORKGROUP: u32 = 256u;
+const PI: f32 = 3.14159265358979;
+const TAU: f32 = 6.28318530717959;
+
+// Flat invocation index of a dispatch that may spread over two dimensions.
+fn flat_index(gid: vec3<u32>, groups: vec3<u32>) -> u32 {
+    return gid.x + gid.y * groups.x * WORKGROUP;
+}
+
+fn position(i: u32) -> vec3<f32> {
+    return pos[i].xyz;
+}
+
+fn inv_mass(i: u32) -> f32 {
+    return pos[i].w;
+}
+
+fn move_by(i: u32, dx: vec3<f32>) {
+    pos[i] = vec4<f32>(pos[i].xyz + dx, pos[i].w);
+}
+
+// atan2 to within 2e-6 rad: the polynomial of crate::constraint::bending::fast_atan2.
+fn fast_atan2(y: f32, x: f32) -> f32 {
+    let ax = abs(x);
+    let ay = abs(y);
+    let num = select(ay, ax, ay > ax);
+    let den = select(ax, ay, ay > ax);
+    if den == 0.0 {
+        return 0.0;
+    }
+    let t = num / den;
+    let t2 = t * t;
+    var poly = -0.0117212;
+    poly = poly * t2 + 0.05265332;
+    poly = poly * t2 - 0.11643287;
+    poly = poly * t2 + 0.19354346;
+    poly = poly * t2 - 0.33262347;
+    poly = poly * t2 + 0.99997726;
+    var a = t * poly;
+    if ay > ax {
+        a = 1.5707963267948966 - a;
+    }
+    if x < 0.0 {
+        a = PI - a;
+    }
+    return select(a, -a, y < 0.0 || (y == 0.0 && bitcast<u32>(y) != 0u));
+}
+
+// The signed fold angle of a triangle pair (shared edge p0 p1, wings p2 p3)
+// and its gradient (crate::constraint::bending::dihedral_angle_simd);
+// ok is false for a degenerate pair.
+struct Dihedral {
+    phi: f32,
+    ok: bool,
+    g0: vec3<f32>,
+    g1: vec3<f32>,
+    g2: vec3<f32>,
+    g3: vec3<f32>,
+}
+
+fn dihedral_angle(p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, p3: vec3<f32>) -> Dihedral {
+    var r: Dihedral;
+    r.ok = false;
+    let e = p1 - p0;
+    let len2 = dot(e, e);
+    let na = cross(e, p2 - p0);
+    let nb = cross(p3 - p0, e);
+    let a2 = dot(na, na);
+    let b2 = dot(nb, nb);
+    let tiny = 1e-12 * len2 * len2;
+    if len2 <= 1.17549435e-38 || a2 <= tiny || b2 <= tiny {
+        return r;
+    }
+    let len = sqrt(len2);
+    r.phi = fast_atan2(dot(cross(nb, na), e) / len, dot(na, nb));
+    r.g2 = na * (len / a2);
+    r.g3 = nb * (len / b2);
+    let s2 = dot(p2 - p0, e) / len2;
+    let s3 = dot(p3 - p0, e) / len2;
+    r.g0 = -(1.0 - s2) * r.g2 - (1.0 - s3) * r.g3;
+    r.g1 = -s2 * r.g2 - s3 * r.g3;
+    r.ok = true;
+    return r;
+}
+
+// XPBD update of a constraint on four particles with value c and gradient d
+// (crate::constraint::bending::project_four); returns the new multiplier.
+fn project_four(v: array<u32, 4>, compliance: f32, c: f32, d: Dihedral, lambda: f32) -> f32 {
+    let w0 = inv_mass(v[0]);
+    let w1 = inv_mass(v[1]);
+    let w2 = inv_mass(v[2]);
+    let w3 = inv_mass(v[3]);
+    let denom = w0 * dot(d.g0, d.g0) + w1 * dot(d.g1, d.g1) + w2 * dot(d.g2, d.g2) + w3 * dot(d.g3, d.g3);
+    let alpha = compliance * params.inv_dt2;
+    if denom + alpha <= 1.17549435e-38 {
+        return lambda;
+    }
+    let dlambda = (-c - alpha * lambda) / (denom + alpha);
+    if w0 > 0.0 { move_by(v[0], d.g0 * (w0 * dlambda)); }
+    if w1 > 0.0 { move_by(v[1], d.g1 * (w1 * dlambda)); }
+    if w2 > 0.0 { move_by(v[2], d.g2 * (w2 * dlambda)); }
+    if w3 > 0.0 { move_by(v[3], d.g3 * (w3 * dlambda)); }
+    return lambda + dlambda;
+}

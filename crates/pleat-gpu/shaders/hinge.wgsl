@@ -1,0 +1,58 @@
+// Origami hinges, one colour per dispatch, and the tracking of their
+// continuous fold angle after each substep (crate::constraint::hinge). The
+// target is the fold progress (a uniform) times the full angle.
+
+struct Hinge {
+    v: array<u32, 4>,
+    full_angle: f32,
+    // Unused here: the target comes from params.progress.
+    target_angle: f32,
+    compliance: f32,
+    angle: f32,
+}
+
+@group(1) @binding(0) var<storage, read_write> items: array<Hinge>;
+@group(1) @binding(1) var<storage, read_write> lambda: array<f32>;
+@group(1) @binding(4) var<uniform> range: Range;
+
+const MAX_TARGET_ANGLE: f32 = 178.0 * PI / 180.0;
+const MAX_TRACKED_ANGLE: f32 = 1.25 * PI;
+
+// The branch phi + 2 pi k nearest the tracked angle.
+fn unwrap_angle(tracked: f32, phi: f32) -> f32 {
+    var r = (phi - tracked + PI) % TAU;
+    if r < 0.0 {
+        r += TAU;
+    }
+    return tracked + r - PI;
+}
+
+@compute @workgroup_size(256)
+fn solve(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let k = flat_index(gid, groups);
+    if k >= range.count {
+        return;
+    }
+    let j = range.first + k;
+    let h = items[j];
+    let d = dihedral_angle(position(h.v[0]), position(h.v[1]), position(h.v[2]), position(h.v[3]));
+    if !d.ok {
+        return;
+    }
+    let target_angle = clamp(params.progress * h.full_angle, -MAX_TARGET_ANGLE, MAX_TARGET_ANGLE);
+    let c = unwrap_angle(h.angle, d.phi) - target_angle;
+    lambda[j] = project_four(h.v, h.compliance, c, d, lambda[j]);
+}
+
+@compute @workgroup_size(256)
+fn track(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let j = flat_index(gid, groups);
+    if j >= range.count {
+        return;
+    }
+    let h = items[j];
+    let d = dihedral_angle(position(h.v[0]), position(h.v[1]), position(h.v[2]), position(h.v[3]));
+    if d.ok {
+        items[j].angle = clamp(unwrap_angle(h.angle, d.phi), -MAX_TRACKED_ANGLE, MAX_TRACKED_ANGLE);
+    }
+}

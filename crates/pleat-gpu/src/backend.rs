@@ -1,0 +1,802 @@
+//! [`GpuBackend`]: the XPBD substep of the core as a sequence of compute
+//! dispatches, one frame per queue submission. Constraints are projected
+//! colour by colour (one dispatch per colour, the slice chosen by a dynamic
+//! uniform offset), in the core's order, so the result follows the CPU
+//! backend's to round-off. Pin targets and collider poses of every substep
+//! of a frame are computed on the CPU from their scripts and uploaded once
+//! per frame (a few bytes per pin and collider).
+
+use crate::context::{GpuContext, GpuError};
+use crate::data::{self, Attachment, Counts, GpuPose, Params, Range};
+use crate::kernels::{workgroups, Kernels, UNIFORM_STRIDE};
+use bytemuck::Pod;
+use glam::Vec3;
+use pleat::collide::ColliderPose;
+use pleat::force::WindForces;
+use pleat::model::Model;
+use pleat::solver::parallel::ColoredConstraints;
+use pleat::solver::position_based::attachments;
+use pleat::solver::xpbd::XpbdConstraints;
+use pleat::solver::{substep_times, SolverKind, SolverSettings, StageTimes};
+use pleat::{Backend, Particles, World};
+use wgpu::util::DeviceExt;
+
+/// Bytes of one particle in the state buffers (`vec4<f32>`).
+const PARTICLE_BYTES: u64 = 16;
+
+/// One kernel with its buffers bound, and the slices it is dispatched on.
+struct Stage {
+    pipeline: wgpu::ComputePipeline,
+    bind_group: wgpu::BindGroup,
+    /// Dynamic offset into the range buffer and invocation count, per dispatch.
+    dispatches: Vec<(u32, u32)>,
+}
+
+/// The ranges of every dispatch, 256 bytes apart, built before upload.
+#[derive(Default)]
+struct RangeTable(Vec<Range>);
+
+impl RangeTable {
+    /// Adds a slice and returns its dynamic offset and count.
+    fn push(&mut self, first: u32, count: u32) -> (u32, u32) {
+        self.0.push(Range { first, count });
+        (
+            (self.0.len() as u64 - 1) as u32 * UNIFORM_STRIDE as u32,
+            count,
+        )
+    }
+
+    fn colours<C>(&mut self, set: &ColoredConstraints<C>) -> Vec<(u32, u32)> {
+        set.colors
+            .iter()
+            .filter(|r| !r.is_empty())
+            .map(|r| self.push(r.start as u32, r.len() as u32))
+            .collect()
+    }
+
+    fn bytes(&self) -> Vec<u8> {
+        let mut bytes = vec![0u8; self.0.len().max(1) * UNIFORM_STRIDE as usize];
+        for (k, r) in self.0.iter().enumerate() {
+            let at = k * UNIFORM_STRIDE as usize;
+            bytes[at..at + size_of::<Range>()].copy_from_slice(bytemuck::bytes_of(r));
+        }
+        bytes
+    }
+}
+
+/// Buffers whose size depends on the number of substeps per frame.
+struct PerSubstep {
+    capacity: u32,
+    params: wgpu::Buffer,
+    targets: wgpu::Buffer,
+    poses: wgpu::Buffer,
+}
+
+/// The XPBD solver on a GPU.
+pub struct GpuBackend {
+    context: GpuContext,
+    kernels: Kernels,
+    counts: Counts,
+    constraint_count: usize,
+    pos: wgpu::Buffer,
+    prev: wgpu::Buffer,
+    vel: wgpu::Buffer,
+    /// Lambda buffers, cleared at the start of every substep.
+    lambdas: Vec<wgpu::Buffer>,
+    ranges: wgpu::Buffer,
+    /// Kernel buffers kept for rebinding when the per-substep buffers grow.
+    buffers: KernelBuffers,
+    per_substep: PerSubstep,
+    stages: Stages,
+    hard_pins: Vec<pleat::constraint::Attachment>,
+    soft_pins: Vec<pleat::constraint::Attachment>,
+    progress: f32,
+}
+
+/// Buffers of the kernels of group 1, by kernel.
+struct KernelBuffers {
+    /// Items and lambdas of each constraint kind, in projection order.
+    constraints: Vec<ConstraintBuffers>,
+    hard_pins: wgpu::Buffer,
+    pin_dispatch: (u32, u32),
+    track_dispatch: (u32, u32),
+    triangles: wgpu::Buffer,
+    triangle_force: wgpu::Buffer,
+    around_start: wgpu::Buffer,
+    around: wgpu::Buffer,
+    colliders: wgpu::Buffer,
+    sdf_values: wgpu::Buffer,
+    thickness: wgpu::Buffer,
+    whole: (u32, u32),
+    collider_count: usize,
+}
+
+/// One constraint kind's items and multipliers, and its dispatches by colour.
+struct ConstraintBuffers {
+    items: wgpu::Buffer,
+    lambda: wgpu::Buffer,
+    dispatches: Vec<(u32, u32)>,
+    kind: ConstraintKind,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum ConstraintKind {
+    Hinge,
+    Distance,
+    Bending,
+    Isometric,
+    Attachment,
+    Tether,
+}
+
+impl GpuBackend {
+    /// The backend for `model` in `world` on `context`'s device, and notes
+    /// for the user (mesh colliders baked into distance fields). Refuses
+    /// what the GPU backend does not have yet, naming the scene field.
+    pub fn new(
+        context: &GpuContext,
+        model: &Model,
+        world: &World,
+        settings: &SolverSettings,
+    ) -> Result<(Self, Vec<String>), GpuError> {
+        check_supported(settings)?;
+        let data::Colliders {
+            shapes: colliders,
+            sdf_values,
+            notes,
+        } = data::colliders(world)?;
+        let device = &context.device;
+        let n = model.particle_count();
+        check_size(context, n as u64 * PARTICLE_BYTES, "particle state")?;
+        let mut constraints = XpbdConstraints::new(model);
+        constraints.set_fold_progress(0.0);
+        let (hard, _) = attachments(model);
+        let hard_pins = hard.attachments().to_vec();
+        let soft_pins = constraints.soft_attachments.items.clone();
+        let slot0 = hard_pins.len() as u32;
+        let soft_gpu: Vec<Attachment> = soft_pins
+            .iter()
+            .enumerate()
+            .map(|(k, a)| Attachment {
+                particle: a.particle[0],
+                compliance: a.compliance,
+                slot: slot0 + k as u32,
+                pad: 0,
+            })
+            .collect();
+        let mut table = RangeTable::default();
+        let whole = table.push(0, 0);
+        let mut kinds = Vec::new();
+        let mut add = |kind, items: wgpu::Buffer, len: usize, dispatches| {
+            let lambda = zeroed(device, "lambda", len as u64 * 4);
+            kinds.push(ConstraintBuffers {
+                items,
+                lambda,
+                dispatches,
+                kind,
+            });
+        };
+        let c = &constraints;
+        add(
+            ConstraintKind::Hinge,
+            storage(device, "hinges", &c.hinges.items),
+            c.hinges.len(),
+            table.colours(&c.hinges),
+        );
+        add(
+            ConstraintKind::Distance,
+            storage(device, "distance", &c.distance.items),
+            c.distance.len(),
+            table.colours(&c.distance),
+        );
+        add(
+            ConstraintKind::Bending,
+            storage(device, "bending", &c.bending.items),
+            c.bending.len(),
+            table.colours(&c.bending),
+        );
+        add(
+            ConstraintKind::Isometric,
+            storage(device, "isometric", &c.isometric.items),
+            c.isometric.len(),
+            table.colours(&c.isometric),
+        );
+        add(
+            ConstraintKind::Attachment,
+            storage(device, "soft attachments", &soft_gpu),
+            soft_gpu.len(),
+            table.colours(&c.soft_attachments),
+        );
+        add(
+            ConstraintKind::Tether,
+            storage(device, "tethers", &c.tethers.items),
+            c.tethers.len(),
+            table.colours(&c.tethers),
+        );
+        for (items, name) in [
+            (c.distance.len() * 16, "distance constraints"),
+            (c.isometric.len() * 36, "isometric bending"),
+            (c.tethers.len() * 12, "tethers"),
+        ] {
+            check_size(context, items as u64, name)?;
+        }
+        let hard_indices: Vec<u32> = hard_pins.iter().map(|a| a.particle[0]).collect();
+        let wind_forces = WindForces::new(&model.triangles, n);
+        let (start, around) = wind_forces.adjacency();
+        let flat_triangles: Vec<u32> = model.triangles.iter().flatten().copied().collect();
+        let buffers = KernelBuffers {
+            pin_dispatch: table.push(0, hard_indices.len() as u32),
+            track_dispatch: table.push(0, c.hinges.len() as u32),
+            constraints: kinds,
+            hard_pins: storage(device, "hard pins", &hard_indices),
+            triangles: storage(device, "triangles", &flat_triangles),
+            triangle_force: zeroed(device, "triangle forces", model.triangles.len() as u64 * 16),
+            around_start: storage(device, "around start", start),
+            around: storage(device, "around", around),
+            colliders: storage(device, "colliders", &colliders),
+            sdf_values: storage(device, "distance fields", &sdf_values),
+            thickness: storage(device, "thickness", &model.thickness),
+            whole,
+            collider_count: colliders.len(),
+        };
+        let ranges = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("ranges"),
+            contents: &table.bytes(),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let state_usage = wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_DST
+            | wgpu::BufferUsages::COPY_SRC
+            | wgpu::BufferUsages::VERTEX;
+        let state = |label| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: (n as u64 * PARTICLE_BYTES).max(PARTICLE_BYTES),
+                usage: state_usage,
+                mapped_at_creation: false,
+            })
+        };
+        let (pos, prev, vel) = (
+            state("positions"),
+            state("previous positions"),
+            state("velocities"),
+        );
+        let kernels = Kernels::new(device);
+        let counts = Counts {
+            particles: n as u32,
+            triangles: model.triangles.len() as u32,
+            pins: (hard_pins.len() + soft_pins.len()) as u32,
+            colliders: colliders.len() as u32,
+        };
+        let per_substep = PerSubstep::new(device, &counts, settings.substeps.max(1));
+        let lambdas = buffers
+            .constraints
+            .iter()
+            .map(|k| k.lambda.clone())
+            .collect();
+        let stages = Stages::new(
+            device,
+            &kernels,
+            [&pos, &prev, &vel],
+            &buffers,
+            &per_substep,
+            &ranges,
+        );
+        let backend = GpuBackend {
+            context: context.clone(),
+            stages,
+            kernels,
+            counts,
+            constraint_count: constraints.len() + hard_pins.len(),
+            pos,
+            prev,
+            vel,
+            lambdas,
+            ranges,
+            buffers,
+            per_substep,
+            hard_pins,
+            soft_pins,
+            progress: 0.0,
+        };
+        Ok((backend, notes))
+    }
+
+    /// The particle positions, `array<vec4<f32>>` with the inverse mass in
+    /// w, usable as a vertex buffer (16-byte stride) by a renderer on the
+    /// same device.
+    pub fn positions(&self) -> &wgpu::Buffer {
+        &self.pos
+    }
+
+    /// The context the backend runs on.
+    pub fn context(&self) -> &GpuContext {
+        &self.context
+    }
+}
+
+/// Every kernel with its bind group, in the order a substep runs them.
+struct Stages {
+    state: wgpu::BindGroup,
+    wind: [Stage; 2],
+    predict: Stage,
+    pins: Option<Stage>,
+    /// In projection order: hinges, distances, bending, isometric, soft attachments, tethers.
+    constraints: Vec<Stage>,
+    track: Option<Stage>,
+    grab: Stage,
+    collide: Option<Stage>,
+    update_velocities: Stage,
+}
+
+impl Stages {
+    fn new(
+        device: &wgpu::Device,
+        kernels: &Kernels,
+        [pos, prev, vel]: [&wgpu::Buffer; 3],
+        b: &KernelBuffers,
+        per_substep: &PerSubstep,
+        ranges: &wgpu::Buffer,
+    ) -> Self {
+        let state = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("state"),
+            layout: &kernels.state_layout,
+            entries: &[
+                entry(0, pos),
+                entry(1, prev),
+                entry(2, vel),
+                sized_entry(3, &per_substep.params, size_of::<Params>()),
+            ],
+        });
+        let group = |buffers: [&wgpu::Buffer; 4]| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: None,
+                layout: &kernels.kernel_layout,
+                entries: &[
+                    entry(0, buffers[0]),
+                    entry(1, buffers[1]),
+                    entry(2, buffers[2]),
+                    entry(3, buffers[3]),
+                    sized_entry(4, ranges, size_of::<Range>()),
+                ],
+            })
+        };
+        let stage = |pipeline: &wgpu::ComputePipeline, buffers, dispatches| Stage {
+            pipeline: pipeline.clone(),
+            bind_group: group(buffers),
+            dispatches,
+        };
+        let unbound = |pipeline: &wgpu::ComputePipeline, dispatches| Stage {
+            pipeline: pipeline.clone(),
+            bind_group: group([pos, pos, pos, pos]),
+            dispatches,
+        };
+        let wind_buffers = [&b.triangles, &b.triangle_force, &b.around_start, &b.around];
+        let constraints = b
+            .constraints
+            .iter()
+            .filter(|k| !k.dispatches.is_empty())
+            .map(|k| {
+                let pipeline = match k.kind {
+                    ConstraintKind::Hinge => &kernels.hinge,
+                    ConstraintKind::Distance => &kernels.distance,
+                    ConstraintKind::Bending => &kernels.bending,
+                    ConstraintKind::Isometric => &kernels.isometric,
+                    ConstraintKind::Attachment => &kernels.attachment,
+                    ConstraintKind::Tether => &kernels.tether,
+                };
+                stage(
+                    pipeline,
+                    [&k.items, &k.lambda, &per_substep.targets, &k.items],
+                    k.dispatches.clone(),
+                )
+            })
+            .collect();
+        let hinges = &b.constraints[0].items;
+        Stages {
+            wind: [
+                stage(&kernels.triangle_forces, wind_buffers, vec![b.whole]),
+                stage(&kernels.gather, wind_buffers, vec![b.whole]),
+            ],
+            predict: unbound(&kernels.predict, vec![]),
+            pins: (b.pin_dispatch.1 > 0).then(|| {
+                stage(
+                    &kernels.place_pins,
+                    [
+                        &b.hard_pins,
+                        &b.hard_pins,
+                        &per_substep.targets,
+                        &b.hard_pins,
+                    ],
+                    vec![b.pin_dispatch],
+                )
+            }),
+            constraints,
+            track: (b.track_dispatch.1 > 0).then(|| {
+                stage(
+                    &kernels.track,
+                    [hinges, hinges, hinges, hinges],
+                    vec![b.track_dispatch],
+                )
+            }),
+            grab: unbound(&kernels.grab, vec![]),
+            collide: (b.collider_count > 0).then(|| {
+                stage(
+                    &kernels.resolve,
+                    [
+                        &b.colliders,
+                        &per_substep.poses,
+                        &b.sdf_values,
+                        &b.thickness,
+                    ],
+                    vec![b.whole],
+                )
+            }),
+            update_velocities: unbound(&kernels.update_velocities, vec![]),
+            state,
+        }
+    }
+}
+
+impl PerSubstep {
+    fn new(device: &wgpu::Device, counts: &Counts, capacity: u32) -> Self {
+        let buffer = |label, size: u64, usage| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: size.max(16),
+                usage: usage | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let c = capacity as u64;
+        PerSubstep {
+            capacity,
+            params: buffer("params", c * UNIFORM_STRIDE, wgpu::BufferUsages::UNIFORM),
+            targets: buffer(
+                "pin targets",
+                c * counts.pins as u64 * 16,
+                wgpu::BufferUsages::STORAGE,
+            ),
+            poses: buffer(
+                "collider poses",
+                c * counts.colliders as u64 * size_of::<GpuPose>() as u64,
+                wgpu::BufferUsages::STORAGE,
+            ),
+        }
+    }
+}
+
+fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry {
+        binding,
+        resource: buffer.as_entire_binding(),
+    }
+}
+
+fn sized_entry(binding: u32, buffer: &wgpu::Buffer, size: usize) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry {
+        binding,
+        resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+            buffer,
+            offset: 0,
+            size: wgpu::BufferSize::new(size as u64),
+        }),
+    }
+}
+
+/// A storage buffer holding `items` (16 bytes at least: empty bindings are invalid).
+fn storage<T: Pod>(device: &wgpu::Device, label: &str, items: &[T]) -> wgpu::Buffer {
+    let mut bytes = bytemuck::cast_slice::<T, u8>(items).to_vec();
+    bytes.resize(bytes.len().max(16).next_multiple_of(4), 0);
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents: &bytes,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+    })
+}
+
+/// A zeroed storage buffer of `size` bytes (16 at least).
+fn zeroed(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: size.max(16).next_multiple_of(4),
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+/// Refuses solvers and features the GPU backend does not have yet.
+fn check_supported(settings: &SolverSettings) -> Result<(), GpuError> {
+    if settings.kind != SolverKind::Xpbd {
+        return Err(GpuError::Unsupported {
+            field: "solver.kind".into(),
+            reason: format!(
+                "the {} solver runs on the CPU backend only (the GPU backend runs xpbd)",
+                settings.kind.name()
+            ),
+        });
+    }
+    if settings.self_collision.enabled {
+        return Err(GpuError::Unsupported {
+            field: "solver.self_collision".into(),
+            reason: "self-collision runs on the CPU backend only for now".into(),
+        });
+    }
+    Ok(())
+}
+
+/// Refuses a buffer larger than one binding may be.
+fn check_size(context: &GpuContext, bytes: u64, what: &str) -> Result<(), GpuError> {
+    let limit = context.device.limits().max_storage_buffer_binding_size;
+    if bytes > limit {
+        return Err(GpuError::TooLarge(format!(
+            "the {what} take {} MiB, more than the {} MiB one buffer may hold on {}",
+            bytes >> 20,
+            limit >> 20,
+            context.adapter
+        )));
+    }
+    Ok(())
+}
+
+impl GpuBackend {
+    /// Grows the per-substep buffers to hold `substeps` substeps.
+    fn reserve(&mut self, substeps: u32) {
+        if substeps <= self.per_substep.capacity {
+            return;
+        }
+        let device = &self.context.device;
+        self.per_substep = PerSubstep::new(device, &self.counts, substeps);
+        self.stages = Stages::new(
+            device,
+            &self.kernels,
+            [&self.pos, &self.prev, &self.vel],
+            &self.buffers,
+            &self.per_substep,
+            &self.ranges,
+        );
+    }
+
+    /// Writes the parameters, pin targets and collider poses of every
+    /// substep of the frame.
+    fn write_frame(&mut self, world: &World, settings: &SolverSettings, frame_dt: f32) -> u32 {
+        let substeps = settings.substeps.max(1);
+        self.reserve(substeps);
+        let mut params = vec![0u8; (substeps as u64 * UNIFORM_STRIDE) as usize];
+        let mut targets: Vec<[f32; 4]> = Vec::new();
+        let mut poses: Vec<GpuPose> = Vec::new();
+        for (s, (t, dt)) in substep_times(world.time, frame_dt, substeps).enumerate() {
+            let p = Params::at(
+                world,
+                settings,
+                &self.counts,
+                self.progress,
+                (s as u32, t, dt),
+            );
+            let at = s * UNIFORM_STRIDE as usize;
+            params[at..at + size_of::<Params>()].copy_from_slice(bytemuck::bytes_of(&p));
+            for a in self.hard_pins.iter_mut().chain(self.soft_pins.iter_mut()) {
+                a.update_target(t + dt);
+                targets.push(a.target.extend(0.0).to_array());
+            }
+            poses.extend(
+                world
+                    .colliders
+                    .iter()
+                    .map(|c| GpuPose::from(ColliderPose::over(c, t, t + dt))),
+            );
+        }
+        let queue = &self.context.queue;
+        queue.write_buffer(&self.per_substep.params, 0, &params);
+        if !targets.is_empty() {
+            queue.write_buffer(&self.per_substep.targets, 0, bytemuck::cast_slice(&targets));
+        }
+        if !poses.is_empty() {
+            queue.write_buffer(&self.per_substep.poses, 0, bytemuck::cast_slice(&poses));
+        }
+        substeps
+    }
+
+    /// Records one substep's dispatches.
+    fn record_substep(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        s: u32,
+        wind: bool,
+        iterations: u32,
+        grab: bool,
+    ) {
+        let st = &self.stages;
+        pass.set_bind_group(0, &st.state, &[s * UNIFORM_STRIDE as u32]);
+        let particles = self.counts.particles;
+        if wind {
+            dispatch(pass, &st.wind[0], Some(self.counts.triangles));
+            dispatch(pass, &st.wind[1], Some(particles));
+        }
+        dispatch(pass, &st.predict, Some(particles));
+        if let Some(pins) = &st.pins {
+            dispatch(pass, pins, None);
+        }
+        for _ in 0..iterations {
+            for stage in &st.constraints {
+                dispatch(pass, stage, None);
+            }
+        }
+        if let Some(track) = &st.track {
+            dispatch(pass, track, None);
+        }
+        if grab {
+            pass.set_pipeline(&st.grab.pipeline);
+            pass.dispatch_workgroups(1, 1, 1);
+        }
+        if let Some(collide) = &st.collide {
+            dispatch(pass, collide, Some(particles));
+        }
+        dispatch(pass, &st.update_velocities, Some(particles));
+    }
+
+    /// Copies the three state buffers back, blocking until they arrive.
+    fn read_state(&self) -> Result<Vec<[f32; 4]>, GpuError> {
+        let (device, queue) = (&self.context.device, &self.context.queue);
+        let size = self.counts.particles as u64 * PARTICLE_BYTES;
+        let staging = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("readback"),
+            size: (3 * size).max(16),
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = device.create_command_encoder(&Default::default());
+        for (k, buffer) in [&self.pos, &self.prev, &self.vel].into_iter().enumerate() {
+            encoder.copy_buffer_to_buffer(buffer, 0, &staging, k as u64 * size, size);
+        }
+        queue.submit([encoder.finish()]);
+        let (sender, receiver) = std::sync::mpsc::channel();
+        staging.map_async(wgpu::MapMode::Read, .., move |r| {
+            let _ = sender.send(r);
+        });
+        device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| GpuError::Readback(e.to_string()))?;
+        receiver
+            .recv()
+            .map_err(|e| GpuError::Readback(e.to_string()))?
+            .map_err(|e| GpuError::Readback(e.to_string()))?;
+        let data = staging
+            .get_mapped_range(..)
+            .map_err(|e| GpuError::Readback(e.to_string()))?;
+        let state = bytemuck::cast_slice::<u8, [f32; 4]>(&data[..(3 * size) as usize]).to_vec();
+        drop(data);
+        staging.unmap();
+        Ok(state)
+    }
+}
+
+/// Dispatches `stage` over each of its slices, or over `count` invocations.
+fn dispatch(pass: &mut wgpu::ComputePass<'_>, stage: &Stage, count: Option<u32>) {
+    pass.set_pipeline(&stage.pipeline);
+    match count {
+        Some(count) => {
+            if let Some(&(offset, _)) = stage.dispatches.first() {
+                pass.set_bind_group(1, &stage.bind_group, &[offset]);
+            }
+            let (x, y) = workgroups(count);
+            pass.dispatch_workgroups(x, y, 1);
+        }
+        None => {
+            for &(offset, count) in &stage.dispatches {
+                pass.set_bind_group(1, &stage.bind_group, &[offset]);
+                let (x, y) = workgroups(count);
+                pass.dispatch_workgroups(x, y, 1);
+            }
+        }
+    }
+}
+
+impl Backend for GpuBackend {
+    fn name(&self) -> &'static str {
+        "gpu"
+    }
+
+    fn device(&self) -> String {
+        self.context.adapter.clone()
+    }
+
+    fn constraint_count(&self) -> usize {
+        self.constraint_count
+    }
+
+    fn step(
+        &mut self,
+        _particles: &mut Particles,
+        world: &mut World,
+        settings: &SolverSettings,
+        frame_dt: f32,
+        stages: &mut StageTimes,
+    ) {
+        let start = web_time::Instant::now();
+        let substeps = self.write_frame(world, settings, frame_dt);
+        let device = &self.context.device;
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("frame"),
+        });
+        let wind = world.wind.is_some();
+        let grab = world.grab.is_some();
+        for s in 0..substeps {
+            for lambda in &self.lambdas {
+                encoder.clear_buffer(lambda, 0, None);
+            }
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("substep"),
+                timestamp_writes: None,
+            });
+            self.record_substep(&mut pass, s, wind, settings.iterations, grab);
+        }
+        self.context.queue.submit([encoder.finish()]);
+        // Frees the resources of finished frames without waiting.
+        let _ = device.poll(wgpu::PollType::Poll);
+        stages.constraints += start.elapsed();
+    }
+
+    fn set_fold_progress(&mut self, c: f32) {
+        self.progress = c;
+    }
+
+    fn finish(&mut self) {
+        let _ = self
+            .context
+            .device
+            .poll(wgpu::PollType::wait_indefinitely());
+    }
+
+    fn steps_in_place(&self) -> bool {
+        false
+    }
+
+    fn download(&mut self, particles: &mut Particles) {
+        let n = particles.len();
+        match self.read_state() {
+            Ok(state) => {
+                let xyz = |k: usize| Vec3::new(state[k][0], state[k][1], state[k][2]);
+                for i in 0..n {
+                    particles.x[i] = xyz(i);
+                    particles.x_prev[i] = xyz(n + i);
+                    particles.v[i] = xyz(2 * n + i);
+                }
+            }
+            Err(e) => {
+                // Reported as a NaN state: the run ends flagged, never silently wrong.
+                eprintln!("error: {e}");
+                particles.x.fill(Vec3::NAN);
+            }
+        }
+    }
+
+    fn upload(&mut self, particles: &Particles) {
+        let with = |v: &[Vec3], w: &dyn Fn(usize) -> f32| -> Vec<[f32; 4]> {
+            v.iter()
+                .enumerate()
+                .map(|(i, p)| [p.x, p.y, p.z, w(i)])
+                .collect()
+        };
+        let inv_mass = |i: usize| particles.inv_mass[i];
+        let queue = &self.context.queue;
+        if particles.is_empty() {
+            return;
+        }
+        queue.write_buffer(
+            &self.pos,
+            0,
+            bytemuck::cast_slice(&with(&particles.x, &inv_mass)),
+        );
+        queue.write_buffer(
+            &self.prev,
+            0,
+            bytemuck::cast_slice(&with(&particles.x_prev, &inv_mass)),
+        );
+        queue.write_buffer(
+            &self.vel,
+            0,
+            bytemuck::cast_slice(&with(&particles.v, &|_| 0.0)),
+        );
+    }
+}

@@ -1,0 +1,146 @@
+//! The compute pipelines and the two bind group layouts they share:
+//! group 0 the particle state and the substep's parameters, group 1 a
+//! kernel's own buffers (four storage buffers) and the slice it works on.
+
+use crate::data::{Params, Range};
+use crate::shaders::{self, Module};
+use std::borrow::Cow;
+
+/// Invocations per workgroup in every kernel (`WORKGROUP` in common.wgsl).
+pub const WORKGROUP: u32 = 256;
+/// Most workgroups along one dimension of a dispatch (WebGPU's default limit).
+const MAX_GROUPS: u32 = 65535;
+/// Stride of dynamic uniform offsets (WebGPU's default alignment).
+pub const UNIFORM_STRIDE: u64 = 256;
+
+/// Workgroups for `count` invocations: along x, then rows of x along y.
+pub fn workgroups(count: u32) -> (u32, u32) {
+    let groups = count.div_ceil(WORKGROUP);
+    if groups <= MAX_GROUPS {
+        (groups, 1)
+    } else {
+        (MAX_GROUPS, groups.div_ceil(MAX_GROUPS))
+    }
+}
+
+/// Every pipeline of the backend.
+pub struct Kernels {
+    pub state_layout: wgpu::BindGroupLayout,
+    pub kernel_layout: wgpu::BindGroupLayout,
+    pub predict: wgpu::ComputePipeline,
+    pub update_velocities: wgpu::ComputePipeline,
+    pub grab: wgpu::ComputePipeline,
+    pub place_pins: wgpu::ComputePipeline,
+    pub triangle_forces: wgpu::ComputePipeline,
+    pub gather: wgpu::ComputePipeline,
+    pub resolve: wgpu::ComputePipeline,
+    pub distance: wgpu::ComputePipeline,
+    pub bending: wgpu::ComputePipeline,
+    pub isometric: wgpu::ComputePipeline,
+    pub hinge: wgpu::ComputePipeline,
+    pub track: wgpu::ComputePipeline,
+    pub tether: wgpu::ComputePipeline,
+    pub attachment: wgpu::ComputePipeline,
+}
+
+fn storage(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: false },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+fn dynamic_uniform(binding: u32, size: usize) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: true,
+            min_binding_size: wgpu::BufferSize::new(size as u64),
+        },
+        count: None,
+    }
+}
+
+impl Kernels {
+    pub fn new(device: &wgpu::Device) -> Self {
+        let state_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("state"),
+            entries: &[
+                storage(0),
+                storage(1),
+                storage(2),
+                dynamic_uniform(3, size_of::<Params>()),
+            ],
+        });
+        let kernel_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("kernel"),
+            entries: &[
+                storage(0),
+                storage(1),
+                storage(2),
+                storage(3),
+                dynamic_uniform(4, size_of::<Range>()),
+            ],
+        });
+        let state_only = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("state only"),
+            bind_group_layouts: &[Some(&state_layout)],
+            immediate_size: 0,
+        });
+        let with_kernel = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("state and kernel"),
+            bind_group_layouts: &[Some(&state_layout), Some(&kernel_layout)],
+            immediate_size: 0,
+        });
+        let modules: Vec<(Module, wgpu::ShaderModule)> = shaders::ALL
+            .iter()
+            .map(|m| {
+                let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some(m.name),
+                    source: wgpu::ShaderSource::Wgsl(Cow::Owned(m.source())),
+                });
+                (*m, module)
+            })
+            .collect();
+        let pipeline = |m: Module, entry: &str, layout: &wgpu::PipelineLayout| {
+            let (_, module) = modules
+                .iter()
+                .find(|(k, _)| *k == m)
+                .expect("every module is compiled");
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: Some(layout),
+                module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        Kernels {
+            predict: pipeline(shaders::PREDICT, "predict", &state_only),
+            update_velocities: pipeline(shaders::PREDICT, "update_velocities", &state_only),
+            grab: pipeline(shaders::PREDICT, "grab", &state_only),
+            place_pins: pipeline(shaders::PINS, "place_pins", &with_kernel),
+            triangle_forces: pipeline(shaders::WIND, "triangle_forces", &with_kernel),
+            gather: pipeline(shaders::WIND, "gather", &with_kernel),
+            resolve: pipeline(shaders::COLLIDE, "resolve", &with_kernel),
+            distance: pipeline(shaders::DISTANCE, "solve", &with_kernel),
+            bending: pipeline(shaders::BENDING, "solve", &with_kernel),
+            isometric: pipeline(shaders::ISOMETRIC, "solve", &with_kernel),
+            hinge: pipeline(shaders::HINGE, "solve", &with_kernel),
+            track: pipeline(shaders::HINGE, "track", &with_kernel),
+            tether: pipeline(shaders::TETHER, "solve", &with_kernel),
+            attachment: pipeline(shaders::ATTACHMENT, "solve", &with_kernel),
+            state_layout,
+            kernel_layout,
+        }
+    }
+}

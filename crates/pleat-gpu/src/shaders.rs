@@ -1,0 +1,87 @@
+//! The WGSL sources of the compute kernels. Each module is the shared
+//! prelude (`common.wgsl`: the particle state, parameters and helpers)
+//! followed by one kernel file.
+
+/// One compute module: its name (the file) and its entry points.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Module {
+    /// The kernel file's stem.
+    pub name: &'static str,
+    /// The kernel file's text.
+    body: &'static str,
+    /// Compute entry points it defines.
+    pub entry_points: &'static [&'static str],
+}
+
+const COMMON: &str = include_str!("../shaders/common.wgsl");
+
+macro_rules! module {
+    ($name:literal, [$($entry:literal),+]) => {
+        Module {
+            name: $name,
+            body: include_str!(concat!("../shaders/", $name, ".wgsl")),
+            entry_points: &[$($entry),+],
+        }
+    };
+}
+
+/// Prediction, velocity update and the grabbed particle.
+pub const PREDICT: Module = module!("predict", ["predict", "update_velocities", "grab"]);
+/// Hard pins placed on their targets.
+pub const PINS: Module = module!("pins", ["place_pins"]);
+/// Aerodynamic wind.
+pub const WIND: Module = module!("wind", ["triangle_forces", "gather"]);
+/// Collider contacts with friction.
+pub const COLLIDE: Module = module!("collide", ["resolve"]);
+/// Stretch, shear and skip-one distance constraints.
+pub const DISTANCE: Module = module!("distance", ["solve"]);
+/// Dihedral bending.
+pub const BENDING: Module = module!("bending", ["solve"]);
+/// Isometric bending.
+pub const ISOMETRIC: Module = module!("isometric", ["solve"]);
+/// Origami hinges and their angle tracking.
+pub const HINGE: Module = module!("hinge", ["solve", "track"]);
+/// Long-range attachments.
+pub const TETHER: Module = module!("tether", ["solve"]);
+/// Soft attachments.
+pub const ATTACHMENT: Module = module!("attachment", ["solve"]);
+
+/// Every module of the backend.
+pub const ALL: [Module; 10] = [
+    PREDICT, PINS, WIND, COLLIDE, DISTANCE, BENDING, ISOMETRIC, HINGE, TETHER, ATTACHMENT,
+];
+
+impl Module {
+    /// The whole WGSL source: the prelude, then the kernel.
+    pub fn source(&self) -> String {
+        format!("{COMMON}\n// ---- {}.wgsl ----\n{}", self.name, self.body)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every module parses and validates with naga, the front end wgpu
+    /// uses, and defines its entry points.
+    #[test]
+    fn every_shader_validates() {
+        for m in ALL {
+            let module = naga::front::wgsl::parse_str(&m.source())
+                .unwrap_or_else(|e| panic!("{}.wgsl: {}", m.name, e.emit_to_string(&m.source())));
+            naga::valid::Validator::new(
+                naga::valid::ValidationFlags::all(),
+                naga::valid::Capabilities::empty(),
+            )
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("{}.wgsl: {e:?}", m.name));
+            for entry in m.entry_points {
+                assert!(
+                    module.entry_points.iter().any(|e| e.name == *entry),
+                    "{}.wgsl has no entry point {entry}",
+                    m.name
+                );
+            }
+        }
+    }
+}

@@ -1,0 +1,77 @@
+//! Scenes stepped on both backends, for the GPU tests.
+
+use pleat::scene::Scene;
+use pleat::Simulation;
+use pleat_gpu::{GpuBackend, GpuContext};
+use std::path::Path;
+use std::sync::OnceLock;
+
+/// One device for every test of a binary: a missing adapter fails the test (never skips).
+pub fn context() -> &'static GpuContext {
+    static CONTEXT: OnceLock<GpuContext> = OnceLock::new();
+    CONTEXT.get_or_init(|| GpuContext::new().expect("a GPU adapter (in CI: Mesa lavapipe)"))
+}
+
+/// The scene in `text`, with scene-relative paths from the project's scenes/.
+pub fn scene(text: &str) -> Scene {
+    Scene::parse(text, "test scene").unwrap()
+}
+
+pub fn scenes_dir() -> &'static Path {
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes"))
+}
+
+/// The project's scene file `name`.
+#[allow(dead_code)]
+pub fn scene_file(name: &str) -> Scene {
+    Scene::load(&scenes_dir().join(name)).unwrap()
+}
+
+/// `scene` on the CPU backend.
+pub fn cpu(scene: &Scene) -> Simulation {
+    scene.build(scenes_dir(), "test scene").unwrap()
+}
+
+/// `scene` on the GPU backend.
+pub fn gpu(scene: &Scene) -> Simulation {
+    let (model, world) = scene.model(scenes_dir(), "test scene").unwrap();
+    let (backend, _) = GpuBackend::new(context(), &model, &world, &scene.solver).unwrap();
+    let folds = model.cloths.iter().any(|c| c.paper.is_some());
+    let mut sim = Simulation::with_backend(model, world, scene.solver, Box::new(backend));
+    if folds {
+        sim.fold_ramp = Some(scene.fold.unwrap_or_default().ramp());
+    }
+    sim
+}
+
+/// Steps `sim` for `frames` frames of the scene's frame time and syncs.
+pub fn run(sim: &mut Simulation, scene: &Scene, frames: u32) {
+    for _ in 0..frames {
+        sim.step(scene.frame_dt());
+    }
+    sim.sync();
+}
+
+/// Mean distance between the two simulations' particles.
+#[allow(dead_code)]
+pub fn mean_distance(a: &Simulation, b: &Simulation) -> f32 {
+    let n = a.particles.len();
+    a.particles
+        .x
+        .iter()
+        .zip(&b.particles.x)
+        .map(|(p, q)| p.distance(*q))
+        .sum::<f32>()
+        / n as f32
+}
+
+/// Largest distance between the two simulations' particles.
+#[allow(dead_code)]
+pub fn max_distance(a: &Simulation, b: &Simulation) -> f32 {
+    a.particles
+        .x
+        .iter()
+        .zip(&b.particles.x)
+        .map(|(p, q)| p.distance(*q))
+        .fold(0.0, f32::max)
+}

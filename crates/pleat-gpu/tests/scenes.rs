@@ -1,0 +1,166 @@
+//! Whole scenes on the GPU backend: they follow the CPU backend (before
+//! chaos sets in), keep their contracts (no NaN, nothing inside a
+//! collider), repeat bit for bit, and take live changes.
+
+mod common;
+use common::*;
+use glam::Vec3;
+use pleat::constraint::bending::dihedral_angle;
+use pleat::constraint::Grab;
+use pleat::Simulation;
+
+/// The GPU and CPU backends agree after `frames`: mean particle distance
+/// under 1% of the cloth's size, max stretch within 2%.
+fn follows_cpu(name: &str, scene: &pleat::scene::Scene, frames: u32) -> (Simulation, Simulation) {
+    let (mut c, mut g) = (cpu(scene), gpu(scene));
+    run(&mut c, scene, frames);
+    run(&mut g, scene, frames);
+    let (mc, mg) = (c.metrics(), g.metrics());
+    assert!(!mg.nan && !mg.unstable, "{name}: {mg:?}");
+    let (lo, hi) = c
+        .model
+        .rest
+        .iter()
+        .fold((Vec3::MAX, Vec3::MIN), |(lo, hi), p| {
+            (lo.min(*p), hi.max(*p))
+        });
+    let size = (hi - lo).max_element();
+    let mean = mean_distance(&c, &g);
+    assert!(
+        mean < 0.01 * size,
+        "{name}: mean distance {mean} vs size {size}"
+    );
+    let stretch = (mg.max_stretch - mc.max_stretch).abs() / mc.max_stretch;
+    assert!(
+        stretch < 0.02,
+        "{name}: max stretch {} on the GPU, {} on the CPU",
+        mg.max_stretch,
+        mc.max_stretch
+    );
+    (c, g)
+}
+
+#[test]
+fn hanging_cloth_with_tethers_follows_the_cpu_for_one_second() {
+    follows_cpu("hanging", &scene_file("hanging.json"), 60);
+}
+
+#[test]
+fn drape_follows_the_cpu_for_one_second_without_penetration() {
+    let (_, g) = follows_cpu("drape", &scene_file("drape.json"), 60);
+    assert_eq!(g.metrics().collider_penetrations, 0);
+}
+
+#[test]
+fn flag_in_turbulent_wind_follows_the_cpu_for_a_quarter_second() {
+    follows_cpu("flag", &scene_file("flag.json"), 15);
+}
+
+#[test]
+fn miura_ori_folds_to_half_like_the_cpu() {
+    let scene = scene(
+        r#"{ "name": "miura", "frames": 60, "fps": 60, "gravity": [0, 0, 0],
+             "solver": { "substeps": 40, "damping": 2.0 },
+             "cloths": [ { "mesh": { "pattern": { "builtin": "miura-ori", "size": 1.0 } },
+                           "material": { "density": 0.08, "stretch_compliance": 0.0, "thickness": 0.0 } } ],
+             "fold": { "progress": 0.5, "frames_to_fold": 40 } }"#,
+    );
+    let (c, g) = follows_cpu("miura-ori", &scene, 60);
+    let cloth = &c.model.cloths[0];
+    let hinges = cloth
+        .paper
+        .as_ref()
+        .unwrap()
+        .hinge_constraints(cloth, &c.model.rest);
+    let angle = |sim: &Simulation, v: [u32; 4]| {
+        dihedral_angle(v.map(|i| sim.particles.x[i as usize]))
+            .unwrap()
+            .0
+    };
+    let mut worst = 0.0f32;
+    let mut folded = 0.0f32;
+    for h in hinges.iter().filter(|h| h.full_angle != 0.0) {
+        worst = worst.max((angle(&c, h.v) - angle(&g, h.v)).abs());
+        folded = folded.max(angle(&g, h.v).abs());
+    }
+    assert!(folded > 0.5, "the GPU sheet folds ({folded} rad)");
+    assert!(
+        worst.to_degrees() < 1.0,
+        "fold angles differ by {} degrees",
+        worst.to_degrees()
+    );
+}
+
+#[test]
+fn two_gpu_runs_are_bit_identical() {
+    let scene = scene_file("drape.json");
+    let (mut a, mut b) = (gpu(&scene), gpu(&scene));
+    run(&mut a, &scene, 20);
+    run(&mut b, &scene, 20);
+    assert!(a.particles.x == b.particles.x && a.particles.v == b.particles.v);
+}
+
+#[test]
+fn live_gravity_and_damping_change_without_a_rebuild() {
+    let scene = scene_file("hanging.json");
+    let (mut c, mut g) = (cpu(&scene), gpu(&scene));
+    for sim in [&mut c, &mut g] {
+        run(sim, &scene, 10);
+        sim.world.gravity = Vec3::new(4.0, 0.0, 0.0);
+        sim.settings.damping = 0.5;
+        run(sim, &scene, 20);
+        let mean_x = sim.particles.x.iter().map(|p| p.x).sum::<f32>() / sim.particles.len() as f32;
+        assert!(
+            mean_x > 0.05,
+            "{}: the cloth swings along the new gravity ({mean_x})",
+            sim.backend_name()
+        );
+    }
+    assert!(mean_distance(&c, &g) < 0.01, "{}", mean_distance(&c, &g));
+}
+
+#[test]
+fn a_grabbed_particle_follows_its_target_on_both_backends() {
+    let scene = scene_file("hanging.json");
+    for mut sim in [cpu(&scene), gpu(&scene)] {
+        let corner = sim.model.rest.len() as u32 - 1;
+        let target = sim.model.rest[corner as usize] + Vec3::new(0.0, 0.2, 0.3);
+        sim.grab(Some(Grab {
+            particle: corner,
+            target,
+            compliance: 0.0,
+        }));
+        run(&mut sim, &scene, 30);
+        let d = sim.particles.x[corner as usize].distance(target);
+        assert!(
+            d < 0.02,
+            "{}: grabbed particle {d} m from its target",
+            sim.backend_name()
+        );
+        sim.grab(None);
+        run(&mut sim, &scene, 30);
+        let d = sim.particles.x[corner as usize].distance(target);
+        assert!(
+            d > 0.05,
+            "{}: released particle falls away ({d})",
+            sim.backend_name()
+        );
+    }
+}
+
+#[test]
+fn unsupported_features_are_refused_naming_the_field() {
+    let mut scene = scene_file("hanging.json");
+    scene.solver.kind = pleat::SolverKind::MassSpring;
+    let (model, world) = scene.model(scenes_dir(), "t").unwrap();
+    let e = pleat_gpu::GpuBackend::new(context(), &model, &world, &scene.solver)
+        .err()
+        .unwrap();
+    assert!(e.to_string().contains("solver.kind"), "{e}");
+    let scene = scene_file("fold_onto_itself.json");
+    let (model, world) = scene.model(scenes_dir(), "t").unwrap();
+    let e = pleat_gpu::GpuBackend::new(context(), &model, &world, &scene.solver)
+        .err()
+        .unwrap();
+    assert!(e.to_string().contains("solver.self_collision"), "{e}");
+}

@@ -1,0 +1,114 @@
+//! The seam between a simulation and the device that steps it.
+//!
+//! Scene building, constraint construction and colouring, metrics and
+//! export stay in the core; a [`Backend`] owns the particle state while it
+//! steps. The CPU backend ([`CpuBackend`]) steps the [`Particles`] in place
+//! with any [`Solver`]; a GPU backend keeps the state in device buffers and
+//! copies it back only when asked ([`Backend::download`]), since reading a
+//! GPU buffer is slow and, in a browser, possible only between turns of the
+//! event loop.
+//!
+//! Parameters a person tunes while the simulation runs (damping, substeps,
+//! gravity, wind, the grabbed particle, fold progress) reach the backend at
+//! every step, by reference: changing one needs no rebuild.
+
+use crate::model::Model;
+use crate::particles::Particles;
+use crate::solver::{self, Solver, SolverSettings, StageTimes};
+use crate::world::World;
+
+/// Where a simulation's particles live while it steps.
+pub trait Backend: Send {
+    /// `"cpu"` or `"gpu"`: the name reports use.
+    fn name(&self) -> &'static str;
+
+    /// The device that runs the steps (a GPU adapter's name), for reports.
+    fn device(&self) -> String;
+
+    /// Number of constraints projected per iteration.
+    fn constraint_count(&self) -> usize;
+
+    /// Advances the state by `frame_dt` in `world` from `world.time`, with
+    /// the current `settings`. A backend whose state lives elsewhere leaves
+    /// `particles` as they were: [`Backend::download`] brings them up to date.
+    fn step(
+        &mut self,
+        particles: &mut Particles,
+        world: &mut World,
+        settings: &SolverSettings,
+        frame_dt: f32,
+        stages: &mut StageTimes,
+    );
+
+    /// Drives every origami hinge to `c` times its full fold angle.
+    fn set_fold_progress(&mut self, c: f32);
+
+    /// Waits until every step handed to the device has run (for timing);
+    /// nothing to wait for on the CPU.
+    fn finish(&mut self);
+
+    /// Whether the state lives in the `particles` passed to [`Backend::step`].
+    fn steps_in_place(&self) -> bool;
+
+    /// Copies the backend's state into `particles` (positions and
+    /// velocities); nothing to do for a backend that steps in place.
+    fn download(&mut self, particles: &mut Particles);
+
+    /// Replaces the backend's state by `particles` (after the caller edited
+    /// them); nothing to do for a backend that steps in place.
+    fn upload(&mut self, particles: &Particles);
+}
+
+/// The CPU backend: any solver stepping the particles in place on rayon's threads.
+pub struct CpuBackend {
+    solver: Box<dyn Solver>,
+}
+
+impl CpuBackend {
+    /// The solver `settings` name, built for `model`.
+    pub fn new(model: &Model, settings: &SolverSettings) -> Self {
+        CpuBackend {
+            solver: solver::build(model, settings),
+        }
+    }
+}
+
+impl Backend for CpuBackend {
+    fn name(&self) -> &'static str {
+        "cpu"
+    }
+
+    fn device(&self) -> String {
+        format!("cpu, {} threads", rayon::current_num_threads())
+    }
+
+    fn constraint_count(&self) -> usize {
+        self.solver.constraint_count()
+    }
+
+    fn step(
+        &mut self,
+        particles: &mut Particles,
+        world: &mut World,
+        settings: &SolverSettings,
+        frame_dt: f32,
+        stages: &mut StageTimes,
+    ) {
+        self.solver.set_settings(settings);
+        self.solver.step(particles, world, frame_dt, stages);
+    }
+
+    fn set_fold_progress(&mut self, c: f32) {
+        self.solver.set_fold_progress(c);
+    }
+
+    fn finish(&mut self) {}
+
+    fn steps_in_place(&self) -> bool {
+        true
+    }
+
+    fn download(&mut self, _particles: &mut Particles) {}
+
+    fn upload(&mut self, _particles: &Particles) {}
+}
