@@ -24,6 +24,11 @@ struct Params {
     grab_particle: u32,
     grab_target: vec3<f32>,
     grab_compliance: f32,
+    // Jacobi PBD's omega.
+    relaxation: f32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
 }
 
 // The slice of a constraint array one dispatch works on (one colour).

@@ -12,8 +12,10 @@ use crate::kernels::{workgroups, Kernels, UNIFORM_STRIDE};
 use bytemuck::Pod;
 use glam::Vec3;
 use pleat::collide::ColliderPose;
+use pleat::constraint::DistanceConstraint;
 use pleat::force::WindForces;
 use pleat::model::Model;
+use pleat::solver::jacobi::JacobiConstraints;
 use pleat::solver::parallel::ColoredConstraints;
 use pleat::solver::position_based::attachments;
 use pleat::solver::xpbd::XpbdConstraints;
@@ -111,10 +113,13 @@ struct KernelBuffers {
     collider_count: usize,
 }
 
-/// One constraint kind's items and multipliers, and its dispatches by colour.
+/// One constraint kind's buffers and its dispatches (by colour).
 struct ConstraintBuffers {
     items: wgpu::Buffer,
+    /// The Lagrange multipliers (cleared every substep), or Jacobi's corrections.
     lambda: wgpu::Buffer,
+    /// Bindings 2 and 3; `None`: the pin targets and the items again.
+    extra: Option<[wgpu::Buffer; 2]>,
     dispatches: Vec<(u32, u32)>,
     kind: ConstraintKind,
 }
@@ -127,6 +132,8 @@ enum ConstraintKind {
     Isometric,
     Attachment,
     Tether,
+    JacobiCorrect,
+    JacobiGather,
 }
 
 impl GpuBackend {
@@ -172,6 +179,7 @@ impl GpuBackend {
             kinds.push(ConstraintBuffers {
                 items,
                 lambda,
+                extra: None,
                 dispatches,
                 kind,
             });
@@ -219,6 +227,18 @@ impl GpuBackend {
             (c.tethers.len() * 12, "tethers"),
         ] {
             check_size(context, items as u64, name)?;
+        }
+        let mut constraint_count = constraints.len() + hard_pins.len();
+        if settings.kind == SolverKind::JacobiPbd {
+            let jacobi = JacobiConstraints::new(model);
+            check_size(
+                context,
+                jacobi.constraints.len() as u64 * 32,
+                "Jacobi corrections",
+            )?;
+            constraint_count = jacobi.constraints.len() + hard_pins.len() + soft_pins.len();
+            kinds.retain(|k| k.kind == ConstraintKind::Attachment);
+            kinds.splice(0..0, jacobi_buffers(device, &jacobi, n as u32, &mut table));
         }
         let hard_indices: Vec<u32> = hard_pins.iter().map(|a| a.particle[0]).collect();
         let wind_forces = WindForces::new(&model.triangles, n);
@@ -287,7 +307,7 @@ impl GpuBackend {
             stages,
             kernels,
             counts,
-            constraint_count: constraints.len() + hard_pins.len(),
+            constraint_count,
             pos,
             prev,
             vel,
@@ -384,15 +404,25 @@ impl Stages {
                     ConstraintKind::Isometric => &kernels.isometric,
                     ConstraintKind::Attachment => &kernels.attachment,
                     ConstraintKind::Tether => &kernels.tether,
+                    ConstraintKind::JacobiCorrect => &kernels.jacobi_correct,
+                    ConstraintKind::JacobiGather => &kernels.jacobi_gather,
+                };
+                let [third, fourth] = match &k.extra {
+                    Some([a, b]) => [a, b],
+                    None => [&per_substep.targets, &k.items],
                 };
                 stage(
                     pipeline,
-                    [&k.items, &k.lambda, &per_substep.targets, &k.items],
+                    [&k.items, &k.lambda, third, fourth],
                     k.dispatches.clone(),
                 )
             })
             .collect();
-        let hinges = &b.constraints[0].items;
+        let hinges = b
+            .constraints
+            .iter()
+            .find(|k| k.kind == ConstraintKind::Hinge)
+            .map_or(pos, |k| &k.items);
         Stages {
             wind: [
                 stage(&kernels.triangle_forces, wind_buffers, vec![b.whole]),
@@ -505,13 +535,60 @@ fn zeroed(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
     })
 }
 
+/// Jacobi PBD's two kernels: corrections per constraint (stiffness in the
+/// compliance slot), then the gather over particles.
+fn jacobi_buffers(
+    device: &wgpu::Device,
+    jacobi: &JacobiConstraints,
+    particles: u32,
+    table: &mut RangeTable,
+) -> [ConstraintBuffers; 2] {
+    let items: Vec<DistanceConstraint> = jacobi
+        .constraints
+        .iter()
+        .zip(&jacobi.stiffness)
+        .map(|(c, &k)| DistanceConstraint {
+            compliance: k,
+            ..*c
+        })
+        .collect();
+    let (start, slots) = jacobi.incidence.rows();
+    let slots: Vec<u32> = slots.iter().map(|s| 2 * s.element + s.end).collect();
+    let items = storage(device, "jacobi constraints", &items);
+    let corrections = zeroed(
+        device,
+        "jacobi corrections",
+        jacobi.constraints.len() as u64 * 32,
+    );
+    let extra = [
+        storage(device, "incidence start", start),
+        storage(device, "incidence", &slots),
+    ];
+    [
+        ConstraintBuffers {
+            items: items.clone(),
+            lambda: corrections.clone(),
+            extra: Some(extra.clone()),
+            dispatches: vec![table.push(0, jacobi.constraints.len() as u32)],
+            kind: ConstraintKind::JacobiCorrect,
+        },
+        ConstraintBuffers {
+            items,
+            lambda: corrections,
+            extra: Some(extra),
+            dispatches: vec![table.push(0, particles)],
+            kind: ConstraintKind::JacobiGather,
+        },
+    ]
+}
+
 /// Refuses solvers and features the GPU backend does not have yet.
 fn check_supported(settings: &SolverSettings) -> Result<(), GpuError> {
-    if settings.kind != SolverKind::Xpbd {
+    if !matches!(settings.kind, SolverKind::Xpbd | SolverKind::JacobiPbd) {
         return Err(GpuError::Unsupported {
             field: "solver.kind".into(),
             reason: format!(
-                "the {} solver runs on the CPU backend only (the GPU backend runs xpbd)",
+                "the {} solver runs on the CPU backend only (the GPU backend runs xpbd and jacobi_pbd)",
                 settings.kind.name()
             ),
         });

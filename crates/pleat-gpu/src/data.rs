@@ -36,6 +36,8 @@ pub struct Params {
     pub grab_particle: u32,
     pub grab_target: [f32; 3],
     pub grab_compliance: f32,
+    pub relaxation: f32,
+    pub pad: [u32; 3],
 }
 
 /// What [`Params::at`] needs besides the world and the settings.
@@ -80,6 +82,8 @@ impl Params {
             grab_particle: grab.map_or(u32::MAX, |g| g.particle),
             grab_target: grab.map_or([0.0; 3], |g| g.target.to_array()),
             grab_compliance: grab.map_or(0.0, |g| g.compliance),
+            relaxation: settings.relaxation,
+            pad: [0; 3],
         }
     }
 }

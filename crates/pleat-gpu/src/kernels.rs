@@ -41,6 +41,8 @@ pub struct Kernels {
     pub track: wgpu::ComputePipeline,
     pub tether: wgpu::ComputePipeline,
     pub attachment: wgpu::ComputePipeline,
+    pub jacobi_correct: wgpu::ComputePipeline,
+    pub jacobi_gather: wgpu::ComputePipeline,
 }
 
 fn storage(binding: u32) -> wgpu::BindGroupLayoutEntry {
@@ -139,6 +141,8 @@ impl Kernels {
             track: pipeline(shaders::HINGE, "track", &with_kernel),
             tether: pipeline(shaders::TETHER, "solve", &with_kernel),
             attachment: pipeline(shaders::ATTACHMENT, "solve", &with_kernel),
+            jacobi_correct: pipeline(shaders::JACOBI, "correct", &with_kernel),
+            jacobi_gather: pipeline(shaders::JACOBI, "gather", &with_kernel),
             state_layout,
             kernel_layout,
         }

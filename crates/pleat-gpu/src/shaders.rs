@@ -46,9 +46,12 @@ pub const TETHER: Module = module!("tether", ["solve"]);
 /// Soft attachments.
 pub const ATTACHMENT: Module = module!("attachment", ["solve"]);
 
+/// Jacobi PBD's corrections and their gather.
+pub const JACOBI: Module = module!("jacobi", ["correct", "gather"]);
+
 /// Every module of the backend.
-pub const ALL: [Module; 10] = [
-    PREDICT, PINS, WIND, COLLIDE, DISTANCE, BENDING, ISOMETRIC, HINGE, TETHER, ATTACHMENT,
+pub const ALL: [Module; 11] = [
+    PREDICT, PINS, WIND, COLLIDE, DISTANCE, BENDING, ISOMETRIC, HINGE, TETHER, ATTACHMENT, JACOBI,
 ];
 
 impl Module {

@@ -46,6 +46,13 @@ fn hanging_cloth_with_tethers_follows_the_cpu_for_one_second() {
 }
 
 #[test]
+fn jacobi_pbd_hanging_cloth_follows_the_cpu_for_one_second() {
+    let mut scene = scene_file("hanging.json");
+    scene.solver.kind = pleat::SolverKind::JacobiPbd;
+    follows_cpu("hanging, jacobi pbd", &scene, 60);
+}
+
+#[test]
 fn drape_follows_the_cpu_for_one_second_without_penetration() {
     let (_, g) = follows_cpu("drape", &scene_file("drape.json"), 60);
     assert_eq!(g.metrics().collider_penetrations, 0);

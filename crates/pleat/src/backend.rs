@@ -17,8 +17,21 @@ use crate::particles::Particles;
 use crate::solver::{self, Solver, SolverSettings, StageTimes};
 use crate::world::World;
 
+/// `Send` where threads exist; nothing on wasm32, whose WebGPU handles
+/// stay on the thread that made them.
+#[cfg(not(target_arch = "wasm32"))]
+pub trait MaybeSend: Send {}
+#[cfg(not(target_arch = "wasm32"))]
+impl<T: Send> MaybeSend for T {}
+/// `Send` where threads exist; nothing on wasm32, whose WebGPU handles
+/// stay on the thread that made them.
+#[cfg(target_arch = "wasm32")]
+pub trait MaybeSend {}
+#[cfg(target_arch = "wasm32")]
+impl<T> MaybeSend for T {}
+
 /// Where a simulation's particles live while it steps.
-pub trait Backend: Send {
+pub trait Backend: MaybeSend {
     /// `"cpu"` or `"gpu"`: the name reports use.
     fn name(&self) -> &'static str;
 

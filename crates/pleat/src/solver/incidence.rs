@@ -5,7 +5,8 @@
 //! a fixed order, so results do not depend on the thread count.
 
 /// One element touching a particle: its index and which of its particles it is.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Slot {
     pub element: u32,
     pub end: u32,
@@ -42,6 +43,12 @@ impl Incidence {
             }
         }
         Incidence { start, slots }
+    }
+
+    /// The compressed rows: `(start, slots)`, the slots of particle `i`
+    /// being `slots[start[i]..start[i + 1]]`.
+    pub fn rows(&self) -> (&[u32], &[Slot]) {
+        (&self.start, &self.slots)
     }
 
     /// The elements touching particle `i`.

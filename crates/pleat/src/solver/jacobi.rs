@@ -28,17 +28,24 @@ const MIN_TASK: usize = 1024;
 pub struct JacobiPbd {
     frame: PbdLoop,
     relaxation: f32,
-    /// Distance constraints; their compliance is unused.
-    constraints: Vec<DistanceConstraint>,
-    /// PBD stiffness in [0, 1] of each constraint.
-    stiffness: Vec<f32>,
+    set: JacobiConstraints,
     /// Corrections of each constraint's two particles in the current iteration.
     corrections: Vec<[Vec3; 2]>,
-    incidence: Incidence,
 }
 
-impl JacobiPbd {
-    pub fn new(model: &Model, settings: &SolverSettings) -> Self {
+/// The constraints Jacobi PBD projects, shared by the backends.
+pub struct JacobiConstraints {
+    /// Distance constraints; their compliance is unused.
+    pub constraints: Vec<DistanceConstraint>,
+    /// PBD stiffness in [0, 1] of each constraint.
+    pub stiffness: Vec<f32>,
+    /// The constraints at each particle, for the gather.
+    pub incidence: Incidence,
+}
+
+impl JacobiConstraints {
+    /// Stretch, shear and skip-one bending constraints of every cloth.
+    pub fn new(model: &Model) -> Self {
         let mut constraints = Vec::new();
         let mut stiffness = Vec::new();
         for cloth in &model.cloths {
@@ -53,13 +60,22 @@ impl JacobiPbd {
             }
         }
         let incidence = Incidence::new(&constraints, model.particle_count(), |c| &c.v);
-        JacobiPbd {
-            frame: PbdLoop::new(model, settings),
-            relaxation: settings.relaxation,
-            corrections: vec![[Vec3::ZERO; 2]; constraints.len()],
+        JacobiConstraints {
             constraints,
             stiffness,
             incidence,
+        }
+    }
+}
+
+impl JacobiPbd {
+    pub fn new(model: &Model, settings: &SolverSettings) -> Self {
+        let set = JacobiConstraints::new(model);
+        JacobiPbd {
+            frame: PbdLoop::new(model, settings),
+            relaxation: settings.relaxation,
+            corrections: vec![[Vec3::ZERO; 2]; set.constraints.len()],
+            set,
         }
     }
 }
@@ -70,7 +86,7 @@ impl super::Solver for JacobiPbd {
     }
 
     fn constraint_count(&self) -> usize {
-        self.constraints.len() + self.frame.pin_count()
+        self.set.constraints.len() + self.frame.pin_count()
     }
 
     fn set_settings(&mut self, settings: &SolverSettings) {
@@ -86,10 +102,10 @@ impl super::Solver for JacobiPbd {
         stages: &mut StageTimes,
     ) {
         let mut sweep = Sweep {
-            constraints: &self.constraints,
-            stiffness: &self.stiffness,
+            constraints: &self.set.constraints,
+            stiffness: &self.set.stiffness,
             corrections: &mut self.corrections,
-            incidence: &self.incidence,
+            incidence: &self.set.incidence,
             relaxation: self.relaxation,
         };
         self.frame
