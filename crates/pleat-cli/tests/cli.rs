@@ -267,14 +267,14 @@ fn gpu_backend_runs_and_names_its_adapter() {
 fn gpu_backend_refuses_what_it_lacks_and_a_missing_adapter() {
     let out = pleat(&[
         "run",
-        "scenes/fold_onto_itself.json",
+        "scenes/tablecloth_pull.json",
         "--backend",
         "gpu",
         "--frames",
         "1",
     ]);
     assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("solver.self_collision"));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("colliders[2].body"));
     // Vulkan is the only backend built for Linux: without a driver there is no adapter.
     let out = Command::new(env!("CARGO_BIN_EXE_pleat"))
         .args(["run", "--backend", "gpu", "--frames", "1"])

@@ -26,9 +26,16 @@ struct Params {
     grab_compliance: f32,
     // Jacobi PBD's omega.
     relaxation: f32,
+    // Self-contact: hash grid cell size, distance kept between layers,
+    // buckets of the hash table (a power of two).
+    contact_cell: f32,
+    contact_thickness: f32,
+    contact_buckets: u32,
+    // Coulomb friction between layers.
+    contact_static: f32,
+    contact_kinetic: f32,
     pad0: u32,
     pad1: u32,
-    pad2: u32,
 }
 
 // The slice of a constraint array one dispatch works on (one colour).

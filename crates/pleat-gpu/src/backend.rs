@@ -111,6 +111,58 @@ struct KernelBuffers {
     thickness: wgpu::Buffer,
     whole: (u32, u32),
     collider_count: usize,
+    self_contact: Option<SelfContactBuffers>,
+}
+
+/// The self-contact hash grid and its inputs and outputs.
+struct SelfContactBuffers {
+    /// Bucket counts and starts, fill counters, sorted particles, scan sums.
+    grid: wgpu::Buffer,
+    /// Triangles, then the triangles around each vertex (compressed rows).
+    topology: wgpu::Buffer,
+    /// Rest positions, for the rest-neighbour exclusion.
+    rest: wgpu::Buffer,
+    /// Fixed-point corrections and contact counts per particle.
+    accum: wgpu::Buffer,
+    cell: f32,
+    /// Hash table size: a power of two, a multiple of the scan block.
+    buckets: u32,
+}
+
+/// Most a rest edge may stretch and still find its triangles' contacts.
+const CONTACT_EDGE_STRETCH: f32 = 1.5;
+
+impl SelfContactBuffers {
+    fn new(
+        device: &wgpu::Device,
+        model: &Model,
+        thickness: f32,
+        triangles: &[u32],
+        (start, around): (&[u32], &[u32]),
+    ) -> Self {
+        let n = model.particle_count() as u32;
+        let longest = model
+            .edges
+            .iter()
+            .map(|e| e.rest_length)
+            .fold(0.0, f32::max);
+        let buckets = (2 * n).next_power_of_two().max(crate::kernels::WORKGROUP);
+        let grid_len = 2 * buckets as u64 + n as u64 + (buckets / crate::kernels::WORKGROUP) as u64;
+        let topology: Vec<u32> = [triangles, start, around].concat();
+        let rest: Vec<[f32; 4]> = model
+            .rest
+            .iter()
+            .map(|p| p.extend(0.0).to_array())
+            .collect();
+        SelfContactBuffers {
+            grid: zeroed(device, "contact grid", grid_len * 4),
+            topology: storage(device, "topology", &topology),
+            rest: storage(device, "rest positions", &rest),
+            accum: zeroed(device, "contact corrections", n as u64 * 16),
+            cell: CONTACT_EDGE_STRETCH * longest + thickness,
+            buckets,
+        }
+    }
 }
 
 /// One constraint kind's buffers and its dispatches (by colour).
@@ -244,6 +296,15 @@ impl GpuBackend {
         let wind_forces = WindForces::new(&model.triangles, n);
         let (start, around) = wind_forces.adjacency();
         let flat_triangles: Vec<u32> = model.triangles.iter().flatten().copied().collect();
+        let contact = settings.self_collision.enabled.then(|| {
+            SelfContactBuffers::new(
+                device,
+                model,
+                settings.self_collision.thickness,
+                &flat_triangles,
+                (start, around),
+            )
+        });
         let buffers = KernelBuffers {
             pin_dispatch: table.push(0, hard_indices.len() as u32),
             track_dispatch: table.push(0, c.hinges.len() as u32),
@@ -258,6 +319,7 @@ impl GpuBackend {
             thickness: storage(device, "thickness", &model.thickness),
             whole,
             collider_count: colliders.len(),
+            self_contact: contact,
         };
         let ranges = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("ranges"),
@@ -287,6 +349,8 @@ impl GpuBackend {
             triangles: model.triangles.len() as u32,
             pins: (hard_pins.len() + soft_pins.len()) as u32,
             colliders: colliders.len() as u32,
+            contact_cell: buffers.self_contact.as_ref().map_or(0.0, |c| c.cell),
+            contact_buckets: buffers.self_contact.as_ref().map_or(0, |c| c.buckets),
         };
         let per_substep = PerSubstep::new(device, &counts, settings.substeps.max(1));
         let lambdas = buffers
@@ -335,6 +399,38 @@ impl GpuBackend {
     }
 }
 
+/// The self-contact kernels with their bind group.
+struct SelfContactStage {
+    bind_group: wgpu::BindGroup,
+    /// clear, count, scan_blocks, scan_sums, scan_add, scatter, contacts, apply.
+    pipelines: [wgpu::ComputePipeline; 8],
+    buckets: u32,
+}
+
+impl SelfContactStage {
+    /// Builds the hash grid and solves the contacts of `particles` particles.
+    fn record(&self, pass: &mut wgpu::ComputePass<'_>, particles: u32) {
+        let [clear, count, scan_blocks, scan_sums, scan_add, scatter, contacts, apply] =
+            &self.pipelines;
+        pass.set_bind_group(1, &self.bind_group, &[0]);
+        let over = |pass: &mut wgpu::ComputePass<'_>, pipeline, n: u32| {
+            pass.set_pipeline(pipeline);
+            let (x, y) = workgroups(n);
+            pass.dispatch_workgroups(x, y, 1);
+        };
+        over(pass, clear, (2 * self.buckets).max(4 * particles));
+        over(pass, count, particles);
+        pass.set_pipeline(scan_blocks);
+        pass.dispatch_workgroups(self.buckets / crate::kernels::WORKGROUP, 1, 1);
+        pass.set_pipeline(scan_sums);
+        pass.dispatch_workgroups(1, 1, 1);
+        over(pass, scan_add, self.buckets);
+        over(pass, scatter, particles);
+        over(pass, contacts, particles);
+        over(pass, apply, particles);
+    }
+}
+
 /// Every kernel with its bind group, in the order a substep runs them.
 struct Stages {
     state: wgpu::BindGroup,
@@ -345,6 +441,7 @@ struct Stages {
     constraints: Vec<Stage>,
     track: Option<Stage>,
     grab: Stage,
+    self_contact: Option<SelfContactStage>,
     collide: Option<Stage>,
     update_velocities: Stage,
 }
@@ -450,6 +547,11 @@ impl Stages {
                 )
             }),
             grab: unbound(&kernels.grab, vec![]),
+            self_contact: b.self_contact.as_ref().map(|c| SelfContactStage {
+                bind_group: group([&c.grid, &c.topology, &c.rest, &c.accum]),
+                pipelines: kernels.self_contact.clone(),
+                buckets: c.buckets,
+            }),
             collide: (b.collider_count > 0).then(|| {
                 stage(
                     &kernels.resolve,
@@ -593,10 +695,10 @@ fn check_supported(settings: &SolverSettings) -> Result<(), GpuError> {
             ),
         });
     }
-    if settings.self_collision.enabled {
+    if settings.self_collision.enabled && settings.kind != SolverKind::Xpbd {
         return Err(GpuError::Unsupported {
             field: "solver.self_collision".into(),
-            reason: "self-collision runs on the CPU backend only for now".into(),
+            reason: "self-collision runs with the xpbd solver only".into(),
         });
     }
     Ok(())
@@ -705,6 +807,9 @@ impl GpuBackend {
         if grab {
             pass.set_pipeline(&st.grab.pipeline);
             pass.dispatch_workgroups(1, 1, 1);
+        }
+        if let Some(contact) = &st.self_contact {
+            contact.record(pass, particles);
         }
         if let Some(collide) = &st.collide {
             dispatch(pass, collide, Some(particles));

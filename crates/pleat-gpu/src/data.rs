@@ -37,7 +37,12 @@ pub struct Params {
     pub grab_target: [f32; 3],
     pub grab_compliance: f32,
     pub relaxation: f32,
-    pub pad: [u32; 3],
+    pub contact_cell: f32,
+    pub contact_thickness: f32,
+    pub contact_buckets: u32,
+    pub contact_static: f32,
+    pub contact_kinetic: f32,
+    pub pad: [u32; 2],
 }
 
 /// What [`Params::at`] needs besides the world and the settings.
@@ -46,6 +51,9 @@ pub struct Counts {
     pub triangles: u32,
     pub pins: u32,
     pub colliders: u32,
+    /// Self-contact hash grid: cell size and buckets (zero when off).
+    pub contact_cell: f32,
+    pub contact_buckets: u32,
 }
 
 impl Params {
@@ -83,7 +91,12 @@ impl Params {
             grab_target: grab.map_or([0.0; 3], |g| g.target.to_array()),
             grab_compliance: grab.map_or(0.0, |g| g.compliance),
             relaxation: settings.relaxation,
-            pad: [0; 3],
+            contact_cell: counts.contact_cell,
+            contact_thickness: settings.self_collision.thickness,
+            contact_buckets: counts.contact_buckets,
+            contact_static: settings.self_collision.friction.static_coefficient,
+            contact_kinetic: settings.self_collision.friction.kinetic_coefficient,
+            pad: [0; 2],
         }
     }
 }

@@ -43,6 +43,8 @@ pub struct Kernels {
     pub attachment: wgpu::ComputePipeline,
     pub jacobi_correct: wgpu::ComputePipeline,
     pub jacobi_gather: wgpu::ComputePipeline,
+    /// Self-contact kernels in the order they run.
+    pub self_contact: [wgpu::ComputePipeline; 8],
 }
 
 fn storage(binding: u32) -> wgpu::BindGroupLayoutEntry {
@@ -143,6 +145,13 @@ impl Kernels {
             attachment: pipeline(shaders::ATTACHMENT, "solve", &with_kernel),
             jacobi_correct: pipeline(shaders::JACOBI, "correct", &with_kernel),
             jacobi_gather: pipeline(shaders::JACOBI, "gather", &with_kernel),
+            self_contact: shaders::SELF_CONTACT
+                .entry_points
+                .iter()
+                .map(|e| pipeline(shaders::SELF_CONTACT, e, &with_kernel))
+                .collect::<Vec<_>>()
+                .try_into()
+                .expect("eight self-contact kernels"),
             state_layout,
             kernel_layout,
         }

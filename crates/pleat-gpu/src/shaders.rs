@@ -49,9 +49,35 @@ pub const ATTACHMENT: Module = module!("attachment", ["solve"]);
 /// Jacobi PBD's corrections and their gather.
 pub const JACOBI: Module = module!("jacobi", ["correct", "gather"]);
 
+/// Self-collision: hash grid, prefix sum, contacts and their Jacobi solve.
+pub const SELF_CONTACT: Module = module!(
+    "self_contact",
+    [
+        "clear",
+        "count",
+        "scan_blocks",
+        "scan_sums",
+        "scan_add",
+        "scatter",
+        "contacts",
+        "apply"
+    ]
+);
+
 /// Every module of the backend.
-pub const ALL: [Module; 11] = [
-    PREDICT, PINS, WIND, COLLIDE, DISTANCE, BENDING, ISOMETRIC, HINGE, TETHER, ATTACHMENT, JACOBI,
+pub const ALL: [Module; 12] = [
+    PREDICT,
+    PINS,
+    WIND,
+    COLLIDE,
+    DISTANCE,
+    BENDING,
+    ISOMETRIC,
+    HINGE,
+    TETHER,
+    ATTACHMENT,
+    JACOBI,
+    SELF_CONTACT,
 ];
 
 impl Module {
