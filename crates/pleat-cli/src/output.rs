@@ -34,6 +34,19 @@ pub enum Format {
     Glb,
 }
 
+/// What receives the frames of a run as they are simulated: meshes
+/// ([`Output`]) or pictures ([`crate::render::Pictures`]).
+pub trait FrameSink {
+    /// Writes (or records) frame `index` of `sim`.
+    fn frame(&mut self, index: u32, sim: &Simulation) -> Result<(), String>;
+}
+
+impl FrameSink for Output {
+    fn frame(&mut self, index: u32, sim: &Simulation) -> Result<(), String> {
+        Output::frame(self, index, sim)
+    }
+}
+
 /// Where exported frames go.
 pub struct Output {
     dir: PathBuf,

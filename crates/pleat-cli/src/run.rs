@@ -1,6 +1,6 @@
 //! `pleat run`: simulate a scene, export its frames and write report.json.
 
-use crate::output::{Output, OutputArgs};
+use crate::output::{FrameSink, Output, OutputArgs};
 use crate::report::Report;
 use crate::{require_cpu, with_threads};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -80,7 +80,13 @@ pub fn run_frames(
     };
     let every = args.every.max(1);
     let times = with_threads(args.threads, || {
-        simulate(sim, name, frames, every, output.as_mut())
+        simulate(
+            sim,
+            name,
+            frames,
+            every,
+            output.as_mut().map(|o| o as &mut dyn FrameSink),
+        )
     })??;
     Ok((times, output))
 }
@@ -118,14 +124,14 @@ pub fn load(path: Option<&Path>) -> Result<(Scene, String, PathBuf), pleat::scen
     }
 }
 
-/// Steps through `frames` frames of `frame_dt` seconds, exporting every
-/// `every`-th; returns each frame's time.
+/// Steps through `frames` frames of `frame_dt` seconds, handing frame 0 and
+/// every `every`-th to `output`; returns each frame's time.
 pub fn simulate(
     sim: &mut Simulation,
     name: &str,
     (frames, frame_dt): (u32, f32),
     every: u32,
-    mut output: Option<&mut Output>,
+    mut output: Option<&mut dyn FrameSink>,
 ) -> Result<Vec<Duration>, String> {
     let bar = ProgressBar::new(frames as u64).with_style(
         ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} frames, {per_sec}, eta {eta}")
