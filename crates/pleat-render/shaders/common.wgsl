@@ -13,7 +13,7 @@ struct Globals {
     light_color: vec4<f32>,
     front_color: vec4<f32>,
     back_color: vec4<f32>,
-    // x: bump strength, y: displacement (m), z: strain at the red end of the colour map, w: shininess.
+    // x: bump height (m), y: displacement (m), z: strain at the red end of the colour map, w: shininess.
     material: vec4<f32>,
     // x: shadow map texel size, y: depth offset of lines (clip space), z: specular strength.
     misc: vec4<f32>,

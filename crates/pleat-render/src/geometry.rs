@@ -190,10 +190,18 @@ impl ColliderMesh {
     pub fn of(shape: &Shape) -> Option<ColliderMesh> {
         Some(match shape {
             Shape::Plane { .. } => return None,
-            Shape::Sphere { center, radius } => capsule(*center, *center, *radius, Quat::IDENTITY),
+            Shape::Sphere { center, radius } => {
+                capsule(*center, *center, *radius, Quat::IDENTITY, SMOOTH)
+            }
             Shape::Capsule { a, b, radius } => {
                 let axis = (*b - *a).normalize_or(Vec3::Y);
-                capsule(*a, *b, *radius, Quat::from_rotation_arc(Vec3::Y, axis))
+                capsule(
+                    *a,
+                    *b,
+                    *radius,
+                    Quat::from_rotation_arc(Vec3::Y, axis),
+                    SMOOTH,
+                )
             }
             Shape::Box {
                 center,
@@ -203,6 +211,11 @@ impl ColliderMesh {
             Shape::Mesh(mesh) => smooth(mesh.triangles().collect()),
             Shape::Sdf(grid) => smooth(grid.surface().to_vec()),
         })
+    }
+
+    /// A small ball of `radius` at the origin, to mark a pin.
+    pub fn pin_marker(radius: f32) -> ColliderMesh {
+        capsule(Vec3::ZERO, Vec3::ZERO, radius, Quat::IDENTITY, [6, 10])
     }
 
     /// Bounds at time zero.
@@ -229,16 +242,24 @@ impl ColliderMesh {
 /// A sphere of `radius` around the segment `a`-`b` turned by `rotation`
 /// (a sphere when `a == b`): a UV sphere whose upper half sits on `b`, its
 /// lower half on `a`, and a cylinder between the two copies of the equator.
-fn capsule(a: Vec3, b: Vec3, radius: f32, rotation: Quat) -> ColliderMesh {
-    const RINGS: usize = 24;
-    const SEGMENTS: usize = 48;
-    let rings: Vec<(usize, Vec3)> = (0..=RINGS / 2)
+/// Rings (even) and segments of a smooth sphere.
+const SMOOTH: [usize; 2] = [24, 48];
+
+fn capsule(
+    a: Vec3,
+    b: Vec3,
+    radius: f32,
+    rotation: Quat,
+    [rings_count, segments]: [usize; 2],
+) -> ColliderMesh {
+    let half = rings_count / 2;
+    let rings: Vec<(usize, Vec3)> = (0..=half)
         .map(|r| (r, b))
-        .chain((RINGS / 2..=RINGS).map(|r| (r, a)))
+        .chain((half..=rings_count).map(|r| (r, a)))
         .collect();
     let vertex = |(ring, end): (usize, Vec3), seg: usize| {
-        let theta = PI * ring as f32 / RINGS as f32;
-        let phi = 2.0 * PI * seg as f32 / SEGMENTS as f32;
+        let theta = PI * ring as f32 / rings_count as f32;
+        let phi = 2.0 * PI * seg as f32 / segments as f32;
         let n = rotation
             * Vec3::new(
                 theta.sin() * phi.cos(),
@@ -252,7 +273,7 @@ fn capsule(a: Vec3, b: Vec3, radius: f32, rotation: Quat) -> ColliderMesh {
         normals: Vec::new(),
     };
     for w in rings.windows(2) {
-        for s in 0..SEGMENTS {
+        for s in 0..segments {
             for (ring, seg) in [
                 (w[0], s),
                 (w[1], s),
@@ -357,8 +378,8 @@ pub fn ground(point: Vec3, normal: Vec3, center: Vec3, half: f32) -> Vec<MeshVer
     .to_vec()
 }
 
-/// Where the ground goes: the first plane collider, else a horizontal
-/// plane just below `bounds`.
+/// Where the ground goes: the first plane collider, else the horizontal
+/// plane y = 0, or one just below `bounds` if they reach lower.
 pub fn ground_plane(colliders: &[Collider], bounds: &Bounds) -> (Vec3, Vec3) {
     colliders
         .iter()
@@ -367,7 +388,8 @@ pub fn ground_plane(colliders: &[Collider], bounds: &Bounds) -> (Vec3, Vec3) {
             _ => None,
         })
         .unwrap_or_else(|| {
-            let below = bounds.min.y - 0.05 * bounds.radius();
+            // At y = 0, or just below the scene if it reaches lower.
+            let below = (bounds.min.y - 0.05 * bounds.radius()).min(0.0);
             (Vec3::new(0.0, below, 0.0), Vec3::Y)
         })
 }

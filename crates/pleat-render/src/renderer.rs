@@ -20,8 +20,9 @@ use crate::settings::{RenderSettings, View};
 use crate::shaders;
 use crate::textures::{self, Texture, ENVIRONMENT_SIZE};
 use bytemuck::{Pod, Zeroable};
-use glam::{Mat4, Vec2, Vec3, Vec4};
+use glam::{Affine3A, Mat4, Vec2, Vec3, Vec4};
 use image::RgbaImage;
+use pleat::collide::Motion;
 use pleat::{Model, World};
 use wgpu::util::DeviceExt;
 
@@ -125,6 +126,9 @@ pub struct Renderer {
     normals_inputs: NormalsInputs,
     lines: Option<(wgpu::Buffer, u32)>,
     colliders: Vec<(ColliderMesh, Vec3)>,
+    /// A ball drawn at each pin, and where the pins are at time zero and how they move.
+    pin_marker: ColliderMesh,
+    pins: Vec<(Vec3, Motion)>,
     ground: Vec<MeshVertex>,
     mesh_vertices: wgpu::Buffer,
     mesh_vertex_count: u32,
@@ -374,6 +378,13 @@ impl Renderer {
         let (center, radius) = (bounds.center(), bounds.radius());
         let (plane_point, plane_normal) = ground_plane(&world.colliders, &bounds);
         let ground = ground(plane_point, plane_normal, center, radius * 25.0);
+        // The light's box holds the scene and the ground under it.
+        let foot = center - plane_normal * (center - plane_point).dot(plane_normal);
+        let lit = bounds.union(Bounds {
+            min: foot,
+            max: foot,
+        });
+        let light_view_proj = settings.light.view_proj(lit.center(), lit.radius());
 
         let aspect = width as f32 / height as f32;
         let camera = settings
@@ -387,9 +398,7 @@ impl Renderer {
         let globals = Self::globals(
             &settings,
             &camera,
-            view_proj,
-            center,
-            radius,
+            [view_proj, light_view_proj],
             strain_range,
             is_paper,
         );
@@ -474,11 +483,18 @@ impl Renderer {
             );
             (buffer, l.len() as u32)
         });
+        let pin_marker = ColliderMesh::pin_marker(radius * 0.012);
+        let pins: Vec<(Vec3, Motion)> = model
+            .pins
+            .iter()
+            .map(|p| (model.rest[p.particle as usize], p.motion))
+            .collect();
         let mesh_vertex_count = (ground.len()
             + colliders
                 .iter()
                 .map(|(m, _)| m.positions.len())
-                .sum::<usize>()) as u32;
+                .sum::<usize>()
+            + pins.len() * pin_marker.positions.len()) as u32;
         let mesh_vertices = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("mesh vertices"),
             size: (mesh_vertex_count as u64 * std::mem::size_of::<MeshVertex>() as u64).max(16),
@@ -670,6 +686,8 @@ impl Renderer {
             normals_inputs,
             lines,
             colliders,
+            pin_marker,
+            pins,
             ground,
             mesh_vertices,
             mesh_vertex_count,
@@ -682,13 +700,11 @@ impl Renderer {
         })
     }
 
-    #[allow(clippy::too_many_arguments)]
+    /// The uniforms: `matrices` are the camera's and the light's world to clip.
     fn globals(
         settings: &RenderSettings,
         camera: &Camera,
-        view_proj: Mat4,
-        center: Vec3,
-        radius: f32,
+        [view_proj, light_view_proj]: [Mat4; 2],
         strain_range: f32,
         is_paper: bool,
     ) -> Globals {
@@ -696,7 +712,11 @@ impl Renderer {
         let (front, back, bump) = if is_paper {
             (Vec3::new(0.96, 0.95, 0.92), Vec3::new(0.85, 0.3, 0.25), 0.0)
         } else {
-            (Vec3::new(0.8, 0.22, 0.18), Vec3::new(0.92, 0.86, 0.74), 1.0)
+            (
+                Vec3::new(0.8, 0.22, 0.18),
+                Vec3::new(0.92, 0.86, 0.74),
+                0.0015,
+            )
         };
         let front = settings.front_color.unwrap_or(front);
         let back = settings.back_color.unwrap_or(back);
@@ -704,7 +724,7 @@ impl Renderer {
         let specular = if is_paper { 0.12 } else { 0.08 };
         Globals {
             view_proj: view_proj.to_cols_array_2d(),
-            light_view_proj: settings.light.view_proj(center, radius).to_cols_array_2d(),
+            light_view_proj: light_view_proj.to_cols_array_2d(),
             inv_view_proj: view_proj.inverse().to_cols_array_2d(),
             camera_position: camera.position.extend(1.0).to_array(),
             light_direction: (-direction.normalize_or(Vec3::NEG_Y))
@@ -832,7 +852,7 @@ impl Renderer {
         Ok(image)
     }
 
-    /// Writes the ground and the colliders, placed at the world's time.
+    /// Writes the ground, the colliders and the pins, placed at the world's time.
     fn upload_meshes(&self, world: &World) {
         let mut vertices = self.ground.clone();
         let surface = if self.settings.mirror_colliders {
@@ -852,6 +872,12 @@ impl Renderer {
             };
             let linear_tint = Vec4::from_array(linear(tint)).truncate();
             vertices.extend(mesh.vertices(&collider.pose_at(world.time), linear_tint, surface));
+        }
+        let pin_color = Vec4::from_array(linear(Vec3::splat(0.15))).truncate();
+        for (anchor, motion) in &self.pins {
+            let at = motion.pose_at(world.time).transform_point3(*anchor);
+            let pose = Affine3A::from_translation(at);
+            vertices.extend(self.pin_marker.vertices(&pose, pin_color, Surface::Matte));
         }
         vertices.truncate(self.mesh_vertex_count as usize);
         if !vertices.is_empty() {

@@ -85,7 +85,8 @@ pub struct RenderSettings {
     /// Height map of the cloth (its red channel); `None`: the fabric weave's
     /// for cloth, flat for paper.
     pub height_map: Option<Texture>,
-    /// Bump-mapping strength; `None`: 1 for cloth, 0 for paper.
+    /// Bump mapping: height (m) of the height map's full range; `None`:
+    /// 1.5 mm for cloth, 0 for paper.
     pub bump: Option<f32>,
     /// Displacement along the normal by the height map (m, peak to peak).
     pub displacement: f32,

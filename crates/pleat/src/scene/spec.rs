@@ -58,10 +58,12 @@ pub struct RenderSpec {
     /// and displacement mapping; default: the fabric weave's.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub height_map: Option<String>,
-    /// Strength of the bump mapping (0 turns it off).
+    /// Bump mapping: the height (m) of the height map's full range, white
+    /// over black (0 turns it off; default 1.5 mm for cloth, 0 for paper).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub bump: Option<f32>,
-    /// Displacement of the surface by the height map (m, peak to peak).
+    /// Displacement of the surface along its normal by the height map (m,
+    /// white over black; default 0).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub displacement: Option<f32>,
     /// Colour of the cloth's front (the side its triangles face).
