@@ -127,17 +127,17 @@ pub struct Pictures {
 }
 
 impl Pictures {
-    /// Creates `dir` and a renderer for `sim` on a headless device; the
-    /// GIF shows each picture for `frame_seconds`.
+    /// A renderer for `sim` on a headless device, and `dir` for its
+    /// pictures; the GIF shows each picture for `frame_seconds`.
     pub fn create(
         dir: &Path,
         sim: &Simulation,
         settings: RenderSettings,
         frame_seconds: f32,
     ) -> Result<Self, String> {
+        let headless = headless_device().map_err(|e| e.to_string())?;
         std::fs::create_dir_all(dir)
             .map_err(|e| format!("{}: cannot create the folder: {e}", dir.display()))?;
-        let headless = headless_device().map_err(|e| e.to_string())?;
         let adapter = headless.describe();
         let Headless { device, queue, .. } = headless;
         let renderer = Renderer::new(device, queue, &sim.model, &sim.world, settings)

@@ -94,6 +94,25 @@ fn fold_render_draws_the_fold() {
 }
 
 #[test]
+fn no_adapter_is_a_clear_error_with_exit_2() {
+    let dir = out_dir("no-adapter");
+    // A Vulkan loader that finds no driver: no adapter at all.
+    let out = Command::new(env!("CARGO_BIN_EXE_pleat"))
+        .args(["render", "--frames", "1", "--out", dir.to_str().unwrap()])
+        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+        .env("WGPU_BACKEND", "vulkan")
+        .env("VK_DRIVER_FILES", "/nonexistent/icd.json")
+        .env("VK_ICD_FILENAMES", "/nonexistent/icd.json")
+        .output()
+        .expect("pleat runs");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("no usable GPU adapter"), "{stderr}");
+    assert!(stderr.contains("mesa-vulkan-drivers"), "{stderr}");
+    assert!(!dir.exists(), "nothing is written without an adapter");
+}
+
+#[test]
 fn render_refuses_bad_arguments_with_exit_2() {
     for (args, expected) in [
         (&["render", "--width", "0"][..], "width"),

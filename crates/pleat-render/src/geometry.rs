@@ -393,3 +393,94 @@ pub fn ground_plane(colliders: &[Collider], bounds: &Bounds) -> (Vec3, Vec3) {
             (Vec3::new(0.0, below, 0.0), Vec3::Y)
         })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use pleat::mesh::GridSpec;
+    use pleat::Material;
+
+    fn grid_model(orientation: pleat::mesh::GridOrientation) -> Model {
+        let mut model = Model::default();
+        let mesh = GridSpec {
+            orientation,
+            ..GridSpec::new(3, 3, [1.0, 0.5])
+        }
+        .build();
+        model.add_cloth("sheet", mesh, Material::default(), &[], false);
+        model
+    }
+
+    #[test]
+    fn incidence_lists_the_triangles_around_each_particle() {
+        let incidence = Incidence::new(4, &[[0, 1, 2], [2, 1, 3]]);
+        assert_eq!(incidence.start, [0, 1, 3, 5, 6]);
+        assert_eq!(incidence.triangles, [0, 0, 1, 0, 1, 1]);
+    }
+
+    #[test]
+    fn uvs_span_the_sheet_in_its_own_plane() {
+        for orientation in [
+            pleat::mesh::GridOrientation::Horizontal,
+            pleat::mesh::GridOrientation::Vertical,
+        ] {
+            let uvs = planar_uvs(&grid_model(orientation));
+            let max = uvs.iter().fold(Vec2::ZERO, |m, uv| m.max(*uv));
+            let min = uvs.iter().fold(Vec2::MAX, |m, uv| m.min(*uv));
+            assert_eq!(min, Vec2::ZERO);
+            assert!(
+                max.abs_diff_eq(Vec2::new(1.0, 0.5) * TILES_PER_METRE, 1e-5),
+                "{max}"
+            );
+        }
+    }
+
+    #[test]
+    fn cloth_constraints_are_stretch_shear_and_bend() {
+        let model = grid_model(pleat::mesh::GridOrientation::Horizontal);
+        let lines = constraint_lines(&model);
+        let cloth = &model.cloths[0];
+        assert_eq!(
+            lines.len(),
+            cloth.topology.edges.len() + cloth.topology.pairs.len()
+        );
+        let count = |kind: usize| {
+            let [r, g, b] = CONSTRAINT_KINDS[kind].1;
+            lines.iter().filter(|l| l.color == [r, g, b, 1.0]).count()
+        };
+        // 3 x 3 vertices: 12 structural edges, 4 diagonals, a bending pair per interior edge.
+        assert_eq!(count(0), 12);
+        assert_eq!(count(1), 4);
+        assert_eq!(count(2), cloth.topology.pairs.len());
+        assert_eq!(wireframe_lines(&model).len(), 16);
+    }
+
+    #[test]
+    fn collider_meshes_close_around_their_shapes() {
+        let sphere = ColliderMesh::of(&Shape::Sphere {
+            center: Vec3::ONE,
+            radius: 0.5,
+        })
+        .unwrap();
+        for p in &sphere.positions {
+            assert!((p.distance(Vec3::ONE) - 0.5).abs() < 1e-5);
+        }
+        let capsule = ColliderMesh::of(&Shape::Capsule {
+            a: Vec3::ZERO,
+            b: Vec3::X,
+            radius: 0.2,
+        })
+        .unwrap();
+        let b = capsule.bounds().unwrap();
+        assert!(
+            b.min.abs_diff_eq(Vec3::new(-0.2, -0.2, -0.2), 1e-5),
+            "{b:?}"
+        );
+        assert!(b.max.abs_diff_eq(Vec3::new(1.2, 0.2, 0.2), 1e-5), "{b:?}");
+        assert!(ColliderMesh::of(&Shape::Plane {
+            point: Vec3::ZERO,
+            normal: Vec3::Y
+        })
+        .is_none());
+    }
+}
