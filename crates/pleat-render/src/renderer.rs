@@ -534,8 +534,10 @@ impl Renderer {
             address_mode_v: wgpu::AddressMode::Repeat,
             mag_filter: wgpu::FilterMode::Linear,
             min_filter: wgpu::FilterMode::Linear,
+            // Trilinear, not anisotropic: on lavapipe 8x anisotropic
+            // filtering took 1.1 of 1.75 s per 1280 x 720 picture, and the
+            // mipmapped weave looks the same without it.
             mipmap_filter: wgpu::MipmapFilterMode::Linear,
-            anisotropy_clamp: 8,
             ..Default::default()
         });
         let environment = device
