@@ -330,3 +330,60 @@ fn bad_sizes_and_particle_counts_are_errors() {
     let mut r = renderer(&sim, small(View::Shaded));
     assert!(r.render(Positions::Cpu(&[Vec3::ZERO]), &sim.world).is_err());
 }
+
+#[test]
+fn a_texture_named_in_the_scene_is_drawn() {
+    let dir = std::env::temp_dir().join(format!("pleat-render-texture-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    RgbaImage::from_pixel(4, 4, Rgba([20, 40, 255, 255]))
+        .save(dir.join("blue.png"))
+        .unwrap();
+    let scene = Scene::parse(
+        r#"{ "gravity": [0, 0, 0],
+             "cloths": [{ "mesh": { "grid": { "resolution": [8, 8], "center": [0, 0.5, 0] } } }],
+             "render": { "texture": "blue.png", "front_color": [1, 1, 1], "back_color": [1, 1, 1], "bump": 0 } }"#,
+        "t.json",
+    )
+    .unwrap();
+    let sim = scene.build(&dir, "t.json").unwrap();
+    let settings = RenderSettings::from_scene(scene.render.as_ref(), &dir).unwrap();
+    let mut r = renderer(
+        &sim,
+        RenderSettings {
+            width: 128,
+            height: 96,
+            ..settings
+        },
+    );
+    let picture = draw(&mut r, &sim);
+    let [red, _, blue, _] = pixel(&picture, r.project(Vec3::new(0.0, 0.5, 0.0)).unwrap()).0;
+    assert!(
+        blue > 150 && red < 80,
+        "cloth centre {red} red, {blue} blue"
+    );
+    // A texture that is not there is an error that names it.
+    let missing = Scene::parse(
+        r#"{ "cloths": [{ "mesh": { "grid": { "resolution": [2, 2] } } }], "render": { "texture": "none.png" } }"#,
+        "t.json",
+    )
+    .unwrap();
+    let err = RenderSettings::from_scene(missing.render.as_ref(), &dir).unwrap_err();
+    assert!(err.to_string().contains("none.png"), "{err}");
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn displacement_and_bump_change_the_surface() {
+    let sim = simulation(FLOATING_CLOTH);
+    let picture = |bump: f32, displacement: f32| {
+        let settings = RenderSettings {
+            bump: Some(bump),
+            displacement,
+            ..small(View::Shaded)
+        };
+        draw(&mut renderer(&sim, settings), &sim)
+    };
+    let flat = picture(0.0, 0.0);
+    assert!(picture(0.0015, 0.0) != flat, "bump mapping changed nothing");
+    assert!(picture(0.0, 0.05) != flat, "displacement changed nothing");
+}

@@ -1,5 +1,6 @@
-//! The renderer: GPU resources and pipelines, and one frame drawn offscreen
-//! and read back as an RGBA image.
+//! The renderer: one frame drawn offscreen and read back as an RGBA image.
+//! Its GPU resources are made in `resources`, its pipelines in `pipelines`,
+//! and it draws into and reads back from `targets`.
 //!
 //! A frame is a compute pass (smooth normals and edge strain from the
 //! positions), a shadow pass (depth from the light), and a multisampled
@@ -17,14 +18,22 @@ use crate::geometry::{
 };
 use crate::legend::{draw_constraint_legend, draw_strain_legend};
 use crate::settings::{RenderSettings, View};
-use crate::shaders;
-use crate::textures::{self, Texture, ENVIRONMENT_SIZE};
+use crate::textures::{self, ENVIRONMENT_SIZE};
 use bytemuck::{Pod, Zeroable};
 use glam::{Affine3A, Mat4, Vec2, Vec3, Vec4};
 use image::RgbaImage;
+use pipelines::{Layouts, Pipelines};
 use pleat::collide::Motion;
 use pleat::{Model, World};
+use resources::{buffer_init, linear, upload_texture, vec4s, whole};
+use targets::Targets;
 use wgpu::util::DeviceExt;
+
+mod pipelines;
+mod resources;
+mod targets;
+
+pub use resources::{headless_device, Headless};
 
 /// Where a frame's particle positions are.
 #[derive(Clone, Copy, Debug)]
@@ -61,49 +70,6 @@ struct Globals {
     material: [f32; 4],
     misc: [f32; 4],
     mode: [u32; 4],
-}
-
-/// A device of its own, with no window.
-pub struct Headless {
-    /// The device.
-    pub device: wgpu::Device,
-    /// Its queue.
-    pub queue: wgpu::Queue,
-    /// What the adapter is: name, backend, type (a CPU for lavapipe).
-    pub adapter: wgpu::AdapterInfo,
-}
-
-impl Headless {
-    /// The adapter's name, backend and type, e.g. `llvmpipe (LLVM 15.0.6, 256 bits), Vulkan, Cpu`.
-    pub fn describe(&self) -> String {
-        let a = &self.adapter;
-        format!("{}, {:?}, {:?}", a.name, a.backend, a.device_type)
-    }
-}
-
-/// Opens a device on the best adapter there is (a software one such as
-/// Mesa lavapipe will do), for rendering with no window.
-pub fn headless_device() -> Result<Headless, RenderError> {
-    let instance =
-        wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-    let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
-        power_preference: wgpu::PowerPreference::HighPerformance,
-        force_fallback_adapter: false,
-        compatible_surface: None,
-        apply_limit_buckets: false,
-    }))
-    .map_err(|e| RenderError::NoAdapter(e.to_string()))?;
-    let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
-        label: Some("pleat-render"),
-        required_limits: adapter.limits(),
-        ..Default::default()
-    }))
-    .map_err(|e| RenderError::Device(e.to_string()))?;
-    Ok(Headless {
-        device,
-        queue,
-        adapter: adapter.get_info(),
-    })
 }
 
 /// Draws frames of one model (its cloths) and world (its colliders).
@@ -147,185 +113,6 @@ struct NormalsInputs {
     triangles: wgpu::Buffer,
     incidence_start: wgpu::Buffer,
     incidence: wgpu::Buffer,
-}
-
-struct Layouts {
-    cloth: wgpu::BindGroupLayout,
-    lines: wgpu::BindGroupLayout,
-    normals: wgpu::BindGroupLayout,
-}
-
-struct Pipelines {
-    normals: wgpu::ComputePipeline,
-    cloth: wgpu::RenderPipeline,
-    cloth_shadow: wgpu::RenderPipeline,
-    meshes: wgpu::RenderPipeline,
-    meshes_shadow: wgpu::RenderPipeline,
-    sky: wgpu::RenderPipeline,
-    lines: wgpu::RenderPipeline,
-}
-
-struct Targets {
-    shadow: wgpu::TextureView,
-    color: Option<wgpu::TextureView>,
-    depth: wgpu::TextureView,
-    resolved: wgpu::Texture,
-    readback: wgpu::Buffer,
-    padded_row: u32,
-    strain_readback: wgpu::Buffer,
-}
-
-fn storage_entry(
-    binding: u32,
-    visibility: wgpu::ShaderStages,
-    read_only: bool,
-) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
-fn uniform_entry(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
-fn texture_entry(
-    binding: u32,
-    visibility: wgpu::ShaderStages,
-    sample_type: wgpu::TextureSampleType,
-    view_dimension: wgpu::TextureViewDimension,
-) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Texture {
-            sample_type,
-            view_dimension,
-            multisampled: false,
-        },
-        count: None,
-    }
-}
-
-fn sampler_entry(
-    binding: u32,
-    visibility: wgpu::ShaderStages,
-    kind: wgpu::SamplerBindingType,
-) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Sampler(kind),
-        count: None,
-    }
-}
-
-/// A buffer holding `contents`, at least 16 bytes (empty bindings are invalid).
-fn buffer_init(
-    device: &wgpu::Device,
-    label: &str,
-    contents: &[u8],
-    usage: wgpu::BufferUsages,
-) -> wgpu::Buffer {
-    let mut bytes = contents.to_vec();
-    bytes.resize(bytes.len().max(16).next_multiple_of(4), 0);
-    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some(label),
-        contents: &bytes,
-        usage,
-    })
-}
-
-fn vec4s(points: &[Vec3]) -> Vec<[f32; 4]> {
-    points.iter().map(|p| p.extend(0.0).to_array()).collect()
-}
-
-/// sRGB colour to linear, alpha 1.
-fn linear(srgb: Vec3) -> [f32; 4] {
-    let f = |c: f32| {
-        if c <= 0.040_45 {
-            c / 12.92
-        } else {
-            ((c + 0.055) / 1.055).powf(2.4)
-        }
-    };
-    [f(srgb.x), f(srgb.y), f(srgb.z), 1.0]
-}
-
-/// `texture` and its mipmaps (2 x 2 box filter), packed one after the other.
-fn mip_chain(texture: &Texture) -> (u32, Vec<u8>) {
-    let (mut w, mut h) = (texture.width, texture.height);
-    let mut level = texture.rgba.clone();
-    let mut data = level.clone();
-    let mut levels = 1;
-    while w > 1 || h > 1 {
-        let (nw, nh) = ((w / 2).max(1), (h / 2).max(1));
-        let mut next = Vec::with_capacity((nw * nh * 4) as usize);
-        for y in 0..nh {
-            for x in 0..nw {
-                for c in 0..4 {
-                    let texel = |dx: u32, dy: u32| {
-                        let (sx, sy) = ((2 * x + dx).min(w - 1), (2 * y + dy).min(h - 1));
-                        level[((sy * w + sx) * 4 + c) as usize] as u32
-                    };
-                    next.push(
-                        ((texel(0, 0) + texel(1, 0) + texel(0, 1) + texel(1, 1) + 2) / 4) as u8,
-                    );
-                }
-            }
-        }
-        data.extend_from_slice(&next);
-        level = next;
-        (w, h, levels) = (nw, nh, levels + 1);
-    }
-    (levels, data)
-}
-
-fn upload_texture(
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
-    label: &str,
-    texture: &Texture,
-    format: wgpu::TextureFormat,
-) -> wgpu::TextureView {
-    let (levels, data) = mip_chain(texture);
-    device
-        .create_texture_with_data(
-            queue,
-            &wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width: texture.width,
-                    height: texture.height,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: levels,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage: wgpu::TextureUsages::TEXTURE_BINDING,
-                view_formats: &[],
-            },
-            wgpu::util::TextureDataOrder::LayerMajor,
-            &data,
-        )
-        .create_view(&wgpu::TextureViewDescriptor::default())
 }
 
 impl Renderer {
@@ -579,58 +366,10 @@ impl Renderer {
         });
         let targets = Targets::new(&device, width, height, settings.msaa, particles);
 
-        // Layouts and bind groups.
-        let vertex = wgpu::ShaderStages::VERTEX;
-        let fragment = wgpu::ShaderStages::FRAGMENT;
-        let both = vertex | fragment;
-        let float = wgpu::TextureSampleType::Float { filterable: true };
-        let d2 = wgpu::TextureViewDimension::D2;
-        let global_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("globals"),
-            entries: &[
-                uniform_entry(0, both),
-                texture_entry(1, fragment, wgpu::TextureSampleType::Depth, d2),
-                sampler_entry(2, fragment, wgpu::SamplerBindingType::Comparison),
-                texture_entry(3, fragment, float, wgpu::TextureViewDimension::Cube),
-                sampler_entry(4, fragment, wgpu::SamplerBindingType::Filtering),
-            ],
-        });
-        let shadow_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("shadow globals"),
-            entries: &[uniform_entry(0, vertex)],
-        });
-        let layouts = Layouts {
-            cloth: device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("cloth"),
-                entries: &[
-                    storage_entry(0, vertex, true),
-                    storage_entry(1, vertex, true),
-                    storage_entry(2, vertex, true),
-                    texture_entry(3, fragment, float, d2),
-                    texture_entry(4, both, float, d2),
-                    sampler_entry(5, both, wgpu::SamplerBindingType::Filtering),
-                ],
-            }),
-            lines: device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("lines"),
-                entries: &[storage_entry(0, vertex, true)],
-            }),
-            normals: device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("normals"),
-                entries: &[
-                    uniform_entry(0, wgpu::ShaderStages::COMPUTE),
-                    storage_entry(1, wgpu::ShaderStages::COMPUTE, true),
-                    storage_entry(2, wgpu::ShaderStages::COMPUTE, true),
-                    storage_entry(3, wgpu::ShaderStages::COMPUTE, true),
-                    storage_entry(4, wgpu::ShaderStages::COMPUTE, true),
-                    storage_entry(5, wgpu::ShaderStages::COMPUTE, true),
-                    storage_entry(6, wgpu::ShaderStages::COMPUTE, false),
-                ],
-            }),
-        };
+        let layouts = Layouts::new(&device);
         let global_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("globals"),
-            layout: &global_layout,
+            layout: &layouts.global,
             entries: &[
                 wgpu::BindGroupEntry {
                     binding: 0,
@@ -656,19 +395,13 @@ impl Renderer {
         });
         let shadow_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("shadow globals"),
-            layout: &shadow_layout,
+            layout: &layouts.shadow,
             entries: &[wgpu::BindGroupEntry {
                 binding: 0,
                 resource: globals.as_entire_binding(),
             }],
         });
-        let pipelines = Pipelines::new(
-            &device,
-            &global_layout,
-            &shadow_layout,
-            &layouts,
-            settings.msaa,
-        );
+        let pipelines = Pipelines::new(&device, &layouts, settings.msaa);
 
         Ok(Renderer {
             device,
@@ -1007,352 +740,9 @@ impl Renderer {
     }
 }
 
-impl Targets {
-    fn new(device: &wgpu::Device, width: u32, height: u32, msaa: u32, particles: usize) -> Self {
-        let texture = |label: &str, w: u32, h: u32, samples: u32, format, usage| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width: w,
-                    height: h,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: samples,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
-        };
-        let attachment = wgpu::TextureUsages::RENDER_ATTACHMENT;
-        let view = |t: wgpu::Texture| t.create_view(&wgpu::TextureViewDescriptor::default());
-        let padded_row = (width * 4).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
-        Targets {
-            shadow: view(texture(
-                "shadow map",
-                SHADOW_SIZE,
-                SHADOW_SIZE,
-                1,
-                DEPTH_FORMAT,
-                attachment | wgpu::TextureUsages::TEXTURE_BINDING,
-            )),
-            color: (msaa > 1).then(|| {
-                view(texture(
-                    "colour",
-                    width,
-                    height,
-                    msaa,
-                    COLOR_FORMAT,
-                    attachment,
-                ))
-            }),
-            depth: view(texture(
-                "depth",
-                width,
-                height,
-                msaa,
-                DEPTH_FORMAT,
-                attachment,
-            )),
-            resolved: texture(
-                "picture",
-                width,
-                height,
-                1,
-                COLOR_FORMAT,
-                attachment | wgpu::TextureUsages::COPY_SRC,
-            ),
-            readback: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("picture readback"),
-                size: padded_row as u64 * height as u64,
-                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-                mapped_at_creation: false,
-            }),
-            padded_row,
-            strain_readback: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("strain readback"),
-                size: (particles as u64 * 16).max(16),
-                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-                mapped_at_creation: false,
-            }),
-        }
-    }
-
-    /// Copies the picture out, submits `encoder` and waits for the pixels.
-    fn read_back(
-        &self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        mut encoder: wgpu::CommandEncoder,
-        width: u32,
-        height: u32,
-    ) -> Result<RgbaImage, RenderError> {
-        encoder.copy_texture_to_buffer(
-            wgpu::TexelCopyTextureInfo {
-                texture: &self.resolved,
-                mip_level: 0,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
-            wgpu::TexelCopyBufferInfo {
-                buffer: &self.readback,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(self.padded_row),
-                    rows_per_image: Some(height),
-                },
-            },
-            wgpu::Extent3d {
-                width,
-                height,
-                depth_or_array_layers: 1,
-            },
-        );
-        queue.submit([encoder.finish()]);
-        let bytes = map_read(device, &self.readback)?;
-        let row = (width * 4) as usize;
-        let mut pixels = Vec::with_capacity(row * height as usize);
-        for padded in bytes.chunks(self.padded_row as usize).take(height as usize) {
-            pixels.extend_from_slice(&padded[..row]);
-        }
-        RgbaImage::from_raw(width, height, pixels)
-            .ok_or_else(|| RenderError::Readback("the picture came back short".into()))
-    }
-
-    /// The largest edge strain of the last frame (already copied out).
-    fn max_strain(&self, device: &wgpu::Device, particles: usize) -> Result<f32, RenderError> {
-        let bytes = map_read(device, &self.strain_readback)?;
-        let normals: &[[f32; 4]] = bytemuck::cast_slice(&bytes[..particles * 16]);
-        Ok(normals.iter().map(|n| n[3]).fold(0.0, f32::max))
-    }
-}
-
-fn whole(buffer: &wgpu::Buffer) -> wgpu::BindingResource<'_> {
-    buffer.as_entire_binding()
-}
-
-/// Maps `buffer` (after its copy was submitted), waits and copies it out.
-fn map_read(device: &wgpu::Device, buffer: &wgpu::Buffer) -> Result<Vec<u8>, RenderError> {
-    let (sender, receiver) = std::sync::mpsc::channel();
-    buffer.map_async(wgpu::MapMode::Read, .., move |result| {
-        // The receiver waits below; a send can only fail if it is gone.
-        let _ = sender.send(result);
-    });
-    device
-        .poll(wgpu::PollType::Wait {
-            submission_index: None,
-            timeout: None,
-        })
-        .map_err(|e| RenderError::Readback(e.to_string()))?;
-    receiver
-        .recv()
-        .map_err(|e| RenderError::Readback(e.to_string()))?
-        .map_err(|e| RenderError::Readback(e.to_string()))?;
-    let bytes = buffer
-        .get_mapped_range(..)
-        .map_err(|e| RenderError::Readback(e.to_string()))?
-        .to_vec();
-    buffer.unmap();
-    Ok(bytes)
-}
-
-impl Pipelines {
-    fn new(
-        device: &wgpu::Device,
-        global: &wgpu::BindGroupLayout,
-        shadow: &wgpu::BindGroupLayout,
-        layouts: &Layouts,
-        msaa: u32,
-    ) -> Self {
-        let module = |label: &str, source: String| {
-            device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some(label),
-                source: wgpu::ShaderSource::Wgsl(source.into()),
-            })
-        };
-        let cloth = module("cloth", shaders::with_common(shaders::CLOTH));
-        let lines = module("lines", shaders::with_common(shaders::LINES));
-        let meshes = module("meshes", shaders::with_common(shaders::MESHES));
-        let normals = module("normals", shaders::NORMALS.to_string());
-        let layout = |groups: &[&wgpu::BindGroupLayout]| {
-            let groups: Vec<Option<&wgpu::BindGroupLayout>> =
-                groups.iter().map(|g| Some(*g)).collect();
-            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: None,
-                bind_group_layouts: &groups,
-                immediate_size: 0,
-            })
-        };
-        let mesh_attributes =
-            wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Uint32];
-        let mesh_buffers = [Some(wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<MeshVertex>() as u64,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &mesh_attributes,
-        })];
-        let line_attributes = wgpu::vertex_attr_array![0 => Uint32x2, 1 => Float32x4];
-        let line_buffers = [Some(wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<Line>() as u64,
-            step_mode: wgpu::VertexStepMode::Instance,
-            attributes: &line_attributes,
-        })];
-        struct Draw<'a> {
-            label: &'a str,
-            layout: wgpu::PipelineLayout,
-            module: &'a wgpu::ShaderModule,
-            vertex: &'a str,
-            fragment: Option<&'a str>,
-            buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
-            topology: wgpu::PrimitiveTopology,
-            depth_write: bool,
-            depth_compare: wgpu::CompareFunction,
-            samples: u32,
-        }
-        let pipeline = |d: Draw<'_>| {
-            let targets = [Some(wgpu::ColorTargetState {
-                format: COLOR_FORMAT,
-                blend: None,
-                write_mask: wgpu::ColorWrites::ALL,
-            })];
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(d.label),
-                layout: Some(&d.layout),
-                vertex: wgpu::VertexState {
-                    module: d.module,
-                    entry_point: Some(d.vertex),
-                    compilation_options: Default::default(),
-                    buffers: d.buffers,
-                },
-                primitive: wgpu::PrimitiveState {
-                    topology: d.topology,
-                    cull_mode: None,
-                    ..Default::default()
-                },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
-                    depth_write_enabled: Some(d.depth_write),
-                    depth_compare: Some(d.depth_compare),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
-                multisample: wgpu::MultisampleState {
-                    count: d.samples,
-                    ..Default::default()
-                },
-                fragment: d.fragment.map(|entry| wgpu::FragmentState {
-                    module: d.module,
-                    entry_point: Some(entry),
-                    compilation_options: Default::default(),
-                    targets: &targets,
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-        };
-        let triangles = wgpu::PrimitiveTopology::TriangleList;
-        let less = wgpu::CompareFunction::LessEqual;
-        Pipelines {
-            normals: device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some("normals"),
-                layout: Some(&layout(&[&layouts.normals])),
-                module: &normals,
-                entry_point: Some("main"),
-                compilation_options: Default::default(),
-                cache: None,
-            }),
-            cloth: pipeline(Draw {
-                label: "cloth",
-                layout: layout(&[global, &layouts.cloth]),
-                module: &cloth,
-                vertex: "vs_main",
-                fragment: Some("fs_main"),
-                buffers: &[],
-                topology: triangles,
-                depth_write: true,
-                depth_compare: less,
-                samples: msaa,
-            }),
-            cloth_shadow: pipeline(Draw {
-                label: "cloth shadow",
-                layout: layout(&[shadow, &layouts.cloth]),
-                module: &cloth,
-                vertex: "vs_shadow",
-                fragment: None,
-                buffers: &[],
-                topology: triangles,
-                depth_write: true,
-                depth_compare: less,
-                samples: 1,
-            }),
-            meshes: pipeline(Draw {
-                label: "meshes",
-                layout: layout(&[global]),
-                module: &meshes,
-                vertex: "vs_main",
-                fragment: Some("fs_main"),
-                buffers: &mesh_buffers,
-                topology: triangles,
-                depth_write: true,
-                depth_compare: less,
-                samples: msaa,
-            }),
-            meshes_shadow: pipeline(Draw {
-                label: "meshes shadow",
-                layout: layout(&[shadow]),
-                module: &meshes,
-                vertex: "vs_shadow",
-                fragment: None,
-                buffers: &mesh_buffers,
-                topology: triangles,
-                depth_write: true,
-                depth_compare: less,
-                samples: 1,
-            }),
-            sky: pipeline(Draw {
-                label: "sky",
-                layout: layout(&[global]),
-                module: &meshes,
-                vertex: "vs_sky",
-                fragment: Some("fs_sky"),
-                buffers: &[],
-                topology: triangles,
-                depth_write: false,
-                depth_compare: wgpu::CompareFunction::Always,
-                samples: msaa,
-            }),
-            lines: pipeline(Draw {
-                label: "lines",
-                layout: layout(&[global, &layouts.lines]),
-                module: &lines,
-                vertex: "vs_main",
-                fragment: Some("fs_main"),
-                buffers: &line_buffers,
-                topology: wgpu::PrimitiveTopology::LineList,
-                depth_write: true,
-                depth_compare: less,
-                samples: msaa,
-            }),
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn mipmaps_halve_down_to_one_texel() {
-        let texture = Texture {
-            width: 4,
-            height: 2,
-            rgba: vec![200; 32],
-        };
-        let (levels, data) = mip_chain(&texture);
-        assert_eq!(levels, 3);
-        assert_eq!(data.len(), (8 + 2 + 1) * 4);
-        assert!(data.iter().all(|&b| b == 200));
-    }
 
     #[test]
     fn globals_match_the_wgsl_layout() {
