@@ -273,6 +273,17 @@ fn positions_from_a_gpu_buffer_draw_the_same_picture() {
         mapped_at_creation: false,
     });
     assert!(r.render(Positions::Gpu(&short), &sim.world).is_err());
+    // So is one the shaders cannot read.
+    let unreadable = r.device().create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size: buffer.size(),
+        usage: wgpu::BufferUsages::VERTEX,
+        mapped_at_creation: false,
+    });
+    let err = r
+        .render(Positions::Gpu(&unreadable), &sim.world)
+        .unwrap_err();
+    assert!(err.to_string().contains("STORAGE"), "{err}");
 }
 
 #[test]

@@ -531,6 +531,11 @@ impl Renderer {
                 self.own_positions.clone()
             }
             Positions::Gpu(buffer) => {
+                if !buffer.usage().contains(wgpu::BufferUsages::STORAGE) {
+                    return Err(RenderError::Setting(
+                        "the position buffer needs BufferUsages::STORAGE".into(),
+                    ));
+                }
                 let held = (buffer.size() / 16) as usize;
                 if held < self.particles {
                     return Err(RenderError::ParticleCount {
