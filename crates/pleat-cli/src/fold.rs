@@ -3,8 +3,10 @@
 //! largest fold-angle errors and strain.
 
 use crate::output::OutputArgs;
+use crate::render::{PictureArgs, Pictures};
 use crate::report::Report;
-use crate::run::{finish, rayon_threads, run_frames};
+use crate::run::{finish, rayon_threads, run_frames, simulate};
+use crate::with_threads;
 use pleat::origami::{
     builtin, load_pattern, paper_simulation, CreasePattern, FoldRamp, Sheet, SheetOptions,
     BUILTIN_NAMES,
@@ -35,6 +37,12 @@ pub struct FoldArgs {
     pub backend: String,
     #[command(flatten)]
     pub output: OutputArgs,
+    /// Draw the fold instead of writing meshes: PNG pictures and anim.gif
+    /// in --out (default out/<pattern name>).
+    #[arg(long)]
+    pub render: bool,
+    #[command(flatten)]
+    pub picture: PictureArgs,
 }
 
 pub fn fold(args: &FoldArgs) -> Result<ExitCode, String> {
@@ -55,17 +63,37 @@ pub fn fold(args: &FoldArgs) -> Result<ExitCode, String> {
     crate::use_backend(&mut sim, &args.backend)?;
     let frame_dt = 1.0 / FPS;
     let frames = (args.frames + SETTLE_FRAMES, frame_dt);
-    let (frame_times, output) = run_frames(&mut sim, &name, frames, &args.output)?;
     let threads = rayon_threads(args.output.threads)?;
-    let report = Report::named(&sim, &name, frame_dt, &frame_times, threads);
-    crate::print_line(format_args!(
+    let sheet_line = format!(
         "{}: {} vertices, {} triangles, {} creases",
         name,
         sheet.positions.len(),
         sheet.triangles.len(),
         sheet.crease_count()
-    ));
-    finish(&report, output, &args.output)?;
+    );
+    let report = if args.render {
+        let dir = args
+            .output
+            .out
+            .clone()
+            .unwrap_or_else(|| Path::new("out").join(&name));
+        let settings = args.picture.settings(None, Path::new("."))?;
+        let every = args.output.every;
+        let mut pictures = Pictures::create(&dir, &sim, settings, frame_dt * every as f32)?;
+        let frame_times = with_threads(args.output.threads, || {
+            simulate(&mut sim, &name, frames, every, Some(&mut pictures))
+        })??;
+        let report = Report::named(&sim, &name, frame_dt, &frame_times, threads);
+        crate::print_line(sheet_line);
+        crate::render::finish(&report, &pictures, &dir)?;
+        report
+    } else {
+        let (frame_times, output) = run_frames(&mut sim, &name, frames, &args.output)?;
+        let report = Report::named(&sim, &name, frame_dt, &frame_times, threads);
+        crate::print_line(sheet_line);
+        finish(&report, output, &args.output)?;
+        report
+    };
     Ok(if report.nan {
         ExitCode::FAILURE
     } else {

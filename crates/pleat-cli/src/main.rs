@@ -1,11 +1,12 @@
-//! The `pleat` command: headless runs, checks and benchmarks of cloth and
-//! origami scenes (see DESIGN.md section 5 for the contracts).
+//! The `pleat` command: headless runs, pictures, checks and benchmarks of
+//! cloth and origami scenes (see DESIGN.md section 5 for the contracts).
 
 mod bench;
 mod check;
 mod compare;
 mod fold;
 mod output;
+mod render;
 mod report;
 mod run;
 
@@ -28,6 +29,8 @@ enum Command {
     Check(check::CheckArgs),
     /// Time the standard hanging cloth at several sizes.
     Bench(bench::BenchArgs),
+    /// Simulate a scene and draw it: PNG pictures and an animated GIF.
+    Render(render::RenderArgs),
     /// Fold a crease pattern (a .cp, .fold or .svg file, or a built-in) as paper.
     Fold(fold::FoldArgs),
     /// Run one scene with every solver: table, stretch plot and stability sweep.
@@ -41,6 +44,7 @@ fn main() -> ExitCode {
         Some(Command::Run(args)) => run::run(&args),
         Some(Command::Check(args)) => check::check(&args),
         Some(Command::Bench(args)) => bench::bench(&args),
+        Some(Command::Render(args)) => render::render(&args),
         Some(Command::Fold(args)) => fold::fold(&args),
         Some(Command::Compare(args)) => compare::compare(&args),
     };

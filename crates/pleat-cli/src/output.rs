@@ -34,6 +34,26 @@ pub enum Format {
     Glb,
 }
 
+/// What receives the frames of a run as they are simulated: meshes
+/// ([`Output`]) or pictures ([`crate::render::Pictures`]).
+pub trait FrameSink {
+    /// Writes (or records) frame `index` of `sim`.
+    fn frame(&mut self, index: u32, sim: &Simulation) -> Result<(), String>;
+
+    /// Whether [`FrameSink::frame`] reads `sim.particles` (then a GPU
+    /// backend's state is read back first); a renderer drawing from the
+    /// GPU's own buffers does not.
+    fn reads_particles(&self) -> bool {
+        true
+    }
+}
+
+impl FrameSink for Output {
+    fn frame(&mut self, index: u32, sim: &Simulation) -> Result<(), String> {
+        Output::frame(self, index, sim)
+    }
+}
+
 /// Where exported frames go.
 pub struct Output {
     dir: PathBuf,

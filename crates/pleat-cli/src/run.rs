@@ -1,6 +1,6 @@
 //! `pleat run`: simulate a scene, export its frames and write report.json.
 
-use crate::output::{Output, OutputArgs};
+use crate::output::{FrameSink, Output, OutputArgs};
 use crate::report::Report;
 use crate::{check_backend, use_backend, with_threads};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -81,7 +81,13 @@ pub fn run_frames(
     };
     let every = args.every.max(1);
     let times = with_threads(args.threads, || {
-        simulate(sim, name, frames, every, output.as_mut())
+        simulate(
+            sim,
+            name,
+            frames,
+            every,
+            output.as_mut().map(|o| o as &mut dyn FrameSink),
+        )
     })??;
     Ok((times, output))
 }
@@ -123,14 +129,14 @@ pub fn load(path: Option<&Path>) -> Result<(Scene, String, PathBuf), pleat::scen
 /// watch, when no export reads it anyway (a CPU backend checks every frame).
 const STABILITY_CHECK_FRAMES: u32 = 10;
 
-/// Steps through `frames` frames of `frame_dt` seconds, exporting every
-/// `every`-th; returns each frame's time.
+/// Steps through `frames` frames of `frame_dt` seconds, handing frame 0 and
+/// every `every`-th to `output`; returns each frame's time.
 pub fn simulate(
     sim: &mut Simulation,
     name: &str,
     (frames, frame_dt): (u32, f32),
     every: u32,
-    mut output: Option<&mut Output>,
+    mut output: Option<&mut dyn FrameSink>,
 ) -> Result<Vec<Duration>, String> {
     let bar = ProgressBar::new(frames as u64).with_style(
         ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} frames, {per_sec}, eta {eta}")
@@ -148,7 +154,8 @@ pub fn simulate(
         sim.finish();
         times.push(start.elapsed());
         let export = output.is_some() && frame % every == 0;
-        if export || frame % STABILITY_CHECK_FRAMES == 0 {
+        let reads = output.as_deref().is_some_and(|o| o.reads_particles());
+        if (export && reads) || frame % STABILITY_CHECK_FRAMES == 0 {
             sim.sync();
         }
         if let (Some(out), true) = (output.as_deref_mut(), export) {

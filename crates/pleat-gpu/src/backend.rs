@@ -225,61 +225,51 @@ impl GpuBackend {
             .collect();
         let mut table = RangeTable::default();
         let whole = table.push(0, 0);
-        let mut kinds = Vec::new();
-        let mut add = |kind, items: wgpu::Buffer, len: usize, dispatches| {
-            let lambda = zeroed(device, "lambda", len as u64 * 4);
-            kinds.push(ConstraintBuffers {
-                items,
-                lambda,
-                extra: None,
-                dispatches,
-                kind,
-            });
-        };
         let c = &constraints;
-        add(
-            ConstraintKind::Hinge,
-            storage(device, "hinges", &c.hinges.items),
-            c.hinges.len(),
-            table.colours(&c.hinges),
-        );
-        add(
-            ConstraintKind::Distance,
-            storage(device, "distance", &c.distance.items),
-            c.distance.len(),
-            table.colours(&c.distance),
-        );
-        add(
-            ConstraintKind::Bending,
-            storage(device, "bending", &c.bending.items),
-            c.bending.len(),
-            table.colours(&c.bending),
-        );
-        add(
-            ConstraintKind::Isometric,
-            storage(device, "isometric", &c.isometric.items),
-            c.isometric.len(),
-            table.colours(&c.isometric),
-        );
-        add(
-            ConstraintKind::Attachment,
-            storage(device, "soft attachments", &soft_gpu),
-            soft_gpu.len(),
-            table.colours(&c.soft_attachments),
-        );
-        add(
-            ConstraintKind::Tether,
-            storage(device, "tethers", &c.tethers.items),
-            c.tethers.len(),
-            table.colours(&c.tethers),
-        );
-        for (items, name) in [
-            (c.distance.len() * 16, "distance constraints"),
-            (c.isometric.len() * 36, "isometric bending"),
-            (c.tethers.len() * 12, "tethers"),
-        ] {
-            check_size(context, items as u64, name)?;
-        }
+        let mut kinds = vec![
+            xpbd_kind(
+                context,
+                &mut table,
+                (ConstraintKind::Hinge, "hinges"),
+                &c.hinges,
+                &c.hinges.items,
+            )?,
+            xpbd_kind(
+                context,
+                &mut table,
+                (ConstraintKind::Distance, "distance constraints"),
+                &c.distance,
+                &c.distance.items,
+            )?,
+            xpbd_kind(
+                context,
+                &mut table,
+                (ConstraintKind::Bending, "bending"),
+                &c.bending,
+                &c.bending.items,
+            )?,
+            xpbd_kind(
+                context,
+                &mut table,
+                (ConstraintKind::Isometric, "isometric bending"),
+                &c.isometric,
+                &c.isometric.items,
+            )?,
+            xpbd_kind(
+                context,
+                &mut table,
+                (ConstraintKind::Attachment, "soft attachments"),
+                &c.soft_attachments,
+                &soft_gpu,
+            )?,
+            xpbd_kind(
+                context,
+                &mut table,
+                (ConstraintKind::Tether, "tethers"),
+                &c.tethers,
+                &c.tethers.items,
+            )?,
+        ];
         let mut constraint_count = constraints.len() + hard_pins.len();
         if settings.kind == SolverKind::JacobiPbd {
             let jacobi = JacobiConstraints::new(model);
@@ -637,6 +627,26 @@ fn zeroed(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
     })
 }
 
+/// One XPBD constraint kind on the GPU: its items as the kernel reads
+/// them (`gpu_items`), coloured as `set`, with a multiplier each.
+fn xpbd_kind<C, G: Pod>(
+    context: &GpuContext,
+    table: &mut RangeTable,
+    (kind, label): (ConstraintKind, &str),
+    set: &ColoredConstraints<C>,
+    gpu_items: &[G],
+) -> Result<ConstraintBuffers, GpuError> {
+    check_size(context, size_of_val(gpu_items) as u64, label)?;
+    let device = &context.device;
+    Ok(ConstraintBuffers {
+        items: storage(device, label, gpu_items),
+        lambda: zeroed(device, "lambda", gpu_items.len() as u64 * 4),
+        extra: None,
+        dispatches: table.colours(set),
+        kind,
+    })
+}
+
 /// Jacobi PBD's two kernels: corrections per constraint (stiffness in the
 /// compliance slot), then the gather over particles.
 fn jacobi_buffers(
@@ -951,6 +961,10 @@ impl Backend for GpuBackend {
                 particles.x.fill(Vec3::NAN);
             }
         }
+    }
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
     }
 
     fn upload(&mut self, particles: &Particles) {

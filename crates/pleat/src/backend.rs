@@ -70,6 +70,10 @@ pub trait Backend: MaybeSend {
     /// Replaces the backend's state by `particles` (after the caller edited
     /// them); nothing to do for a backend that steps in place.
     fn upload(&mut self, particles: &Particles);
+
+    /// The backend as `Any`, so that a caller that knows the concrete type
+    /// (a renderer drawing from a GPU backend's buffers) can reach it.
+    fn as_any(&self) -> &dyn std::any::Any;
 }
 
 /// The CPU backend: any solver stepping the particles in place on rayon's threads.
@@ -124,4 +128,8 @@ impl Backend for CpuBackend {
     fn download(&mut self, _particles: &mut Particles) {}
 
     fn upload(&mut self, _particles: &Particles) {}
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
 }

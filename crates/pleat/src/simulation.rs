@@ -82,6 +82,11 @@ impl Simulation {
         self.replace_backend(backend);
     }
 
+    /// The backend stepping the simulation.
+    pub fn backend(&self) -> &dyn Backend {
+        self.backend.as_ref()
+    }
+
     /// `"cpu"` or `"gpu"`.
     pub fn backend_name(&self) -> &'static str {
         self.backend.name()

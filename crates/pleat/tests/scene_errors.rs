@@ -662,3 +662,49 @@ fn dynamic_mesh_must_be_closed() {
         "{e}"
     );
 }
+
+#[test]
+fn render_section_is_checked() {
+    let with_render = |render: &str| GOOD.replacen('{', &format!("{{ \"render\": {render},"), 1);
+    Scene::parse(
+        &with_render(
+            r#"{ "camera": { "position": [0, 1, 3], "target": [0, 0, 0], "fov_degrees": 35 },
+                 "light": { "direction": [0, -1, 0.2] }, "texture": "checker", "bump": 0.5,
+                 "front_color": [1, 0.5, 0], "mirror_colliders": true }"#,
+        ),
+        "good.json",
+    )
+    .unwrap();
+    assert_error(
+        &with_render(r#"{ "camera": { "position": [0, 1, 3], "target": [0, 0, 0], "fov": 35 } }"#),
+        "render.camera",
+        "unknown field `fov`",
+    );
+    assert_error(
+        &with_render(
+            r#"{ "camera": { "position": [0, 1, 3], "target": [0, 0, 0], "fov_degrees": 0 } }"#,
+        ),
+        "render.camera.fov_degrees",
+        "must be between 1 and 179",
+    );
+    assert_error(
+        &with_render(r#"{ "camera": { "position": [1, 1, 1], "target": [1, 1, 1] } }"#),
+        "render.camera",
+        "position and target must differ",
+    );
+    assert_error(
+        &with_render(r#"{ "light": { "direction": [0, 0, 0] } }"#),
+        "render.light.direction",
+        "must not be zero",
+    );
+    assert_error(
+        &with_render(r#"{ "back_color": [0, 2, 0] }"#),
+        "render.back_color[1]",
+        "must be between 0 and 1",
+    );
+    assert_error(
+        &with_render(r#"{ "displacement": -0.01 }"#),
+        "render.displacement",
+        "must be zero or positive",
+    );
+}

@@ -15,6 +15,7 @@ use super::mesh_collider::{Aabb, MeshCollider};
 use glam::Vec3;
 use rayon::prelude::*;
 use std::fmt;
+use std::sync::Arc;
 
 /// Empty cells around the mesh's box on every side.
 pub const PADDING_CELLS: f32 = 2.0;
@@ -31,6 +32,8 @@ pub struct SdfGrid {
     dims: [usize; 3],
     /// Node `(i, j, k)` at `i + dims[0] * (j + dims[1] * k)`.
     values: Vec<f32>,
+    /// The triangles of the mesh the field was baked from, kept for drawing.
+    surface: Arc<[[Vec3; 3]]>,
 }
 
 impl fmt::Debug for SdfGrid {
@@ -73,6 +76,7 @@ impl SdfGrid {
             cell_size,
             dims,
             values: Vec::new(),
+            surface: mesh.triangles().collect(),
         };
         grid.values = (0..dims.iter().product())
             .into_par_iter()
@@ -89,6 +93,11 @@ impl SdfGrid {
     /// Distances at the nodes, node `(i, j, k)` at `i + dims[0] * (j + dims[1] * k)`.
     pub fn values(&self) -> &[f32] {
         &self.values
+    }
+
+    /// The triangles of the mesh the field was baked from (to draw it).
+    pub fn surface(&self) -> &[[Vec3; 3]] {
+        &self.surface
     }
 
     pub fn cell_size(&self) -> f32 {

@@ -9,6 +9,7 @@
 
 use super::noise::value_noise;
 use crate::particles::Particles;
+use crate::solver::incidence::Incidence;
 use glam::Vec3;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -97,27 +98,12 @@ pub struct WindForces {
 
 impl WindForces {
     pub fn new(triangles: &[[u32; 3]], vertex_count: usize) -> Self {
-        let mut start = vec![0u32; vertex_count + 1];
-        for t in triangles {
-            for &i in t {
-                start[i as usize + 1] += 1;
-            }
-        }
-        for i in 0..vertex_count {
-            start[i + 1] += start[i];
-        }
-        let mut fill = start.clone();
-        let mut around = vec![0u32; start[vertex_count] as usize];
-        for (k, t) in triangles.iter().enumerate() {
-            for &i in t {
-                around[fill[i as usize] as usize] = k as u32;
-                fill[i as usize] += 1;
-            }
-        }
+        let incidence = Incidence::new(triangles, vertex_count, |t| t.as_slice());
+        let (start, slots) = incidence.rows();
         WindForces {
             triangle_force: vec![Vec3::ZERO; triangles.len()],
-            start,
-            around,
+            start: start.to_vec(),
+            around: slots.iter().map(|s| s.element).collect(),
         }
     }
 

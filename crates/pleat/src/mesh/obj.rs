@@ -12,19 +12,21 @@ pub struct ObjError {
     pub reason: String,
 }
 
+/// Polygons triangulated, one index per vertex, points and lines left out.
+const OPTIONS: tobj::LoadOptions = tobj::LoadOptions {
+    triangulate: true,
+    single_index: true,
+    ignore_points: true,
+    ignore_lines: true,
+};
+
 /// Reads `path`, triangulating polygons and merging all of its models.
 pub fn load_obj(path: &Path) -> Result<Mesh, ObjError> {
     let error = |reason: String| ObjError {
         file: path.display().to_string(),
         reason,
     };
-    let options = tobj::LoadOptions {
-        triangulate: true,
-        single_index: true,
-        ignore_points: true,
-        ignore_lines: true,
-    };
-    let (models, _) = tobj::load_obj(path, &options).map_err(|e| error(describe(e)))?;
+    let (models, _) = tobj::load_obj(path, &OPTIONS).map_err(|e| error(describe(e)))?;
     let mesh = merge(&models);
     validate(&mesh).map_err(error)?;
     Ok(mesh)
@@ -37,14 +39,8 @@ pub fn parse_obj(text: &str, file: &str) -> Result<Mesh, ObjError> {
         file: file.to_string(),
         reason,
     };
-    let options = tobj::LoadOptions {
-        triangulate: true,
-        single_index: true,
-        ignore_points: true,
-        ignore_lines: true,
-    };
     let mut reader = std::io::Cursor::new(text.as_bytes());
-    let (models, _) = tobj::load_obj_buf(&mut reader, &options, |_| {
+    let (models, _) = tobj::load_obj_buf(&mut reader, &OPTIONS, |_| {
         Err(tobj::LoadError::OpenFileFailed)
     })
     .map_err(|e| error(describe(e)))?;

@@ -39,5 +39,6 @@ pub fn hanging_cloth(n: u32, substeps: u32, tethers: bool) -> Scene {
         colliders: Vec::new(),
         wind: None,
         fold: None,
+        render: None,
     }
 }

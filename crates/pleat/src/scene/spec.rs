@@ -34,6 +34,77 @@ pub struct Scene {
     /// How pattern cloths fold; defaults apply when absent.
     #[serde(default)]
     pub fold: Option<FoldSpec>,
+    /// How `pleat render` draws the scene; defaults apply when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub render: Option<RenderSpec>,
+}
+
+/// How the scene is drawn (`pleat render`): camera, light and the cloth's
+/// look. Every field is optional; colours are sRGB in `[0, 1]`.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RenderSpec {
+    /// Where the camera stands; absent frames the scene.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub camera: Option<CameraSpec>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub light: Option<LightSpec>,
+    /// The cloth's texture: `"fabric"`, `"checker"`, `"plain"`, or a PNG
+    /// file relative to the scene file's folder. Default: fabric for
+    /// cloth, plain for paper.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub texture: Option<String>,
+    /// A grey PNG height map (relative to the scene file's folder) for bump
+    /// and displacement mapping; default: the fabric weave's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub height_map: Option<String>,
+    /// Bump mapping: the height (m) of the height map's full range, white
+    /// over black (0 turns it off; default 1.5 mm for cloth, 0 for paper).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bump: Option<f32>,
+    /// Displacement of the surface along its normal by the height map (m,
+    /// white over black; default 0).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub displacement: Option<f32>,
+    /// Colour of the cloth's front (the side its triangles face).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub front_color: Option<[f32; 3]>,
+    /// Colour of the cloth's back.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub back_color: Option<[f32; 3]>,
+    /// Draw the colliders as mirrors reflecting the sky.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub mirror_colliders: bool,
+}
+
+/// A camera at `position` looking at `target`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraSpec {
+    pub position: Vec3,
+    pub target: Vec3,
+    /// Vertical field of view in degrees.
+    #[serde(default = "default_fov")]
+    pub fov_degrees: f32,
+}
+
+fn default_fov() -> f32 {
+    40.0
+}
+
+/// A directional light.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LightSpec {
+    /// The direction the light travels, e.g. `[0, -1, 0]` from straight above.
+    pub direction: Vec3,
+    /// Linear colour times intensity.
+    #[serde(default = "default_light_color")]
+    pub color: [f32; 3],
+}
+
+fn default_light_color() -> [f32; 3] {
+    [0.9, 0.9, 0.9]
 }
 
 /// The fold progress of a scene's pattern cloths: ramped linearly from 0

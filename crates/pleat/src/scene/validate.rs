@@ -2,8 +2,8 @@
 //! densities, zero radii. Every error found is reported, each with its path.
 
 use super::{
-    BodySpec, ClothSpec, ColliderSpec, FoldSpec, MeshSpec, MotionSpec, PatternMeshSpec, Scene,
-    SceneError, ShapeSpec,
+    BodySpec, ClothSpec, ColliderSpec, FoldSpec, MeshSpec, MotionSpec, PatternMeshSpec, RenderSpec,
+    Scene, SceneError, ShapeSpec,
 };
 use crate::collide::SelfCollision;
 use crate::force::Wind;
@@ -83,6 +83,9 @@ pub fn validate(scene: &Scene, file: &str) -> Vec<SceneError> {
             "the scene has no pattern cloth to fold",
         );
         v.fold(fold);
+    }
+    if let Some(render) = &scene.render {
+        v.render(render);
     }
     v.errors
 }
@@ -380,6 +383,58 @@ impl Validator<'_> {
             "solver.self_collision.friction.kinetic",
             s.friction.kinetic_coefficient,
         );
+    }
+
+    fn render(&mut self, r: &RenderSpec) {
+        if let Some(c) = &r.camera {
+            self.finite3("render.camera.position", c.position.to_array());
+            self.finite3("render.camera.target", c.target.to_array());
+            self.check(
+                c.position.distance(c.target) > 1e-6,
+                "render.camera",
+                "position and target must differ",
+            );
+            self.check(
+                c.fov_degrees > 1.0 && c.fov_degrees < 179.0,
+                "render.camera.fov_degrees",
+                &format!("must be between 1 and 179 degrees, got {}", c.fov_degrees),
+            );
+        }
+        if let Some(l) = &r.light {
+            self.finite3("render.light.direction", l.direction.to_array());
+            self.check(
+                l.direction.length() > 1e-6,
+                "render.light.direction",
+                "must not be zero",
+            );
+            for (k, &c) in l.color.iter().enumerate() {
+                self.non_negative(&format!("render.light.color[{k}]"), c);
+            }
+        }
+        for (name, file) in [("texture", &r.texture), ("height_map", &r.height_map)] {
+            if let Some(file) = file {
+                self.check(
+                    !file.is_empty(),
+                    &format!("render.{name}"),
+                    "must name a PNG file (or, for texture, fabric, checker or plain)",
+                );
+            }
+        }
+        if let Some(bump) = r.bump {
+            self.non_negative("render.bump", bump);
+        }
+        if let Some(d) = r.displacement {
+            self.non_negative("render.displacement", d);
+        }
+        for (name, color) in [("front_color", r.front_color), ("back_color", r.back_color)] {
+            for (k, c) in color.into_iter().flatten().enumerate() {
+                self.check(
+                    (0.0..=1.0).contains(&c),
+                    &format!("render.{name}[{k}]"),
+                    &format!("must be between 0 and 1, got {c}"),
+                );
+            }
+        }
     }
 
     fn wind(&mut self, w: &Wind) {
