@@ -7,9 +7,13 @@
 //! The mechanical energy is kinetic plus gravitational potential energy
 //! measured from the rest shape. A passive cloth starts at zero and can only
 //! lose it (its elastic energy is never negative), so energy far above what
-//! gravity, wind and moving pins or colliders could put in is runaway. The
-//! same figure lets solvers be compared on one scale whatever their elastic
-//! model.
+//! gravity, wind and moving pins or colliders could put in is runaway. Paper
+//! is not passive: its driven creases store elastic energy that a flap
+//! snapping flat turns into motion, and motion can never hold more than
+//! that, so their energy at full progress
+//! ([`crate::origami::Paper::crease_energy`]) is added to the runaway
+//! threshold. The same figure lets solvers be compared on one scale
+//! whatever their elastic model.
 
 use crate::collide::Motion;
 use crate::model::Model;
@@ -17,7 +21,8 @@ use crate::particles::Particles;
 use crate::world::World;
 use glam::Vec3;
 
-/// Mechanical energy above this many times [`energy_scale`] is runaway.
+/// Mechanical energy above this many times [`energy_scale`] (plus what
+/// paper creases can release) is runaway.
 pub const RUNAWAY_ENERGY: f32 = 100.0;
 
 /// Speed (m/s) added to the world's own, so that a still, weightless scene has a scale.
@@ -32,11 +37,13 @@ pub enum Instability {
     Runaway,
 }
 
-/// The first instability a simulation ran into, and when.
+/// The first instability a simulation ran into, when and where.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct StabilityMonitor {
     /// Simulated time (s) and kind of the first instability.
     pub first: Option<(f32, Instability)>,
+    /// Where it showed: the first non-finite particle, else the fastest.
+    pub particle: Option<u32>,
     /// The model's part of the energy scale, measured at the first check.
     extent: Option<RestExtent>,
 }
@@ -48,12 +55,29 @@ impl StabilityMonitor {
             let extent = *self.extent.get_or_insert_with(|| RestExtent::of(model));
             self.first =
                 instability_within(extent, model, world, particles).map(|kind| (world.time, kind));
+            if self.first.is_some() {
+                self.particle = culprit(particles);
+            }
         }
     }
 
     pub fn is_unstable(&self) -> bool {
         self.first.is_some()
     }
+}
+
+/// The first particle whose position or velocity is not finite, else the
+/// fastest; `None` without particles.
+fn culprit(particles: &Particles) -> Option<u32> {
+    let finite = |i: &usize| particles.x[*i].is_finite() && particles.v[*i].is_finite();
+    let index = (0..particles.len()).find(|i| !finite(i)).or_else(|| {
+        (0..particles.len()).max_by(|&a, &b| {
+            particles.v[a]
+                .length_squared()
+                .total_cmp(&particles.v[b].length_squared())
+        })
+    })?;
+    u32::try_from(index).ok()
 }
 
 /// The instability of a state, if any.
@@ -70,7 +94,7 @@ fn instability_within(
     if particles.has_non_finite() || !world.bodies_are_finite() {
         Some(Instability::NonFinite)
     } else if mechanical_energy(model, world, particles)
-        > RUNAWAY_ENERGY * energy_scale(extent, model, world)
+        > RUNAWAY_ENERGY * energy_scale(extent, model, world) + extent.crease_energy
     {
         Some(Instability::Runaway)
     } else {
@@ -83,7 +107,9 @@ fn instability_within(
 /// `v` the fastest the world moves (wind with its turbulence, scripted pins
 /// and colliders) plus one metre per second.
 pub fn energy_scale(extent: RestExtent, model: &Model, world: &World) -> f32 {
-    let RestExtent { mass, size, centre } = extent;
+    let RestExtent {
+        mass, size, centre, ..
+    } = extent;
     let wind = world.wind.map_or(0.0, |w| {
         w.velocity.length() * (1.0 + w.turbulence * 3f32.sqrt())
     });
@@ -109,6 +135,8 @@ pub struct RestExtent {
     /// Diagonal of the rest shape's bounding box (m).
     pub size: f32,
     pub centre: Vec3,
+    /// Elastic energy the driven creases of paper parts can release (J).
+    pub crease_energy: f32,
 }
 
 impl RestExtent {
@@ -117,10 +145,16 @@ impl RestExtent {
             (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
             |(lo, hi), x| (lo.min(*x), hi.max(*x)),
         );
+        let crease_energy = model
+            .cloths
+            .iter()
+            .filter_map(|c| Some(c.paper.as_ref()?.crease_energy(c, &model.rest)))
+            .sum();
         RestExtent {
             mass: model.mass.iter().sum(),
             size: (hi - lo).length().max(0.0),
             centre: (lo + hi) / 2.0,
+            crease_energy,
         }
     }
 }
@@ -186,10 +220,35 @@ mod tests {
         world.time = 1.0;
         monitor.check(&model, &world, &particles);
         assert_eq!(monitor.first, Some((0.5, Instability::Runaway)));
+        assert_eq!(monitor.particle, Some(4), "the fast particle");
         assert_eq!(
             instability(&model, &world, &particles),
             Some(Instability::NonFinite)
         );
+    }
+
+    #[test]
+    fn creases_of_paper_raise_the_threshold_by_the_energy_they_hold() {
+        use crate::origami::{builtin, paper_material, PaperStiffness, Sheet, SheetOptions};
+        let sheet = Sheet::from_pattern(&builtin("single-line").unwrap(), &SheetOptions::default())
+            .unwrap();
+        let mut model = Model::default();
+        model.add_paper("p", &sheet, paper_material(), PaperStiffness::default());
+        let world = World::default();
+        let extent = RestExtent::of(&model);
+        // One crease 1 m long folded by pi: L pi^2 / (2 alpha).
+        let alpha = PaperStiffness::default().crease_compliance;
+        let expected = std::f32::consts::PI.powi(2) / (2.0 * alpha);
+        assert!((extent.crease_energy - expected).abs() < 1e-3 * expected);
+        let threshold = RUNAWAY_ENERGY * energy_scale(extent, &model, &world) + expected;
+        let mut particles = Particles::new(model.rest.clone(), &model.mass);
+        let mass: f32 = model.mass.iter().sum();
+        for factor in [0.9f32, 1.1] {
+            let speed = (2.0 * factor * threshold / mass).sqrt();
+            particles.v.fill(Vec3::new(0.0, 0.0, speed));
+            let unstable = instability(&model, &world, &particles).is_some();
+            assert_eq!(unstable, factor > 1.0, "{factor}");
+        }
     }
 
     #[test]
