@@ -35,7 +35,14 @@ pub enum Instability {
     NonFinite,
     /// The mechanical energy exceeds [`RUNAWAY_ENERGY`] times [`energy_scale`].
     Runaway,
+    /// An edge of paper is longer than its rest length by more than
+    /// [`PAPER_TEAR_STRAIN`]: the inextensible sheet has crumpled.
+    Torn,
 }
+
+/// Strain past which paper, whose edges have compliance zero, counts as
+/// torn: a solve that leaves an edge a quarter longer than it is has failed.
+pub const PAPER_TEAR_STRAIN: f32 = 0.25;
 
 /// The first instability a simulation ran into, when and where.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -93,6 +100,8 @@ fn instability_within(
 ) -> Option<Instability> {
     if particles.has_non_finite() || !world.bodies_are_finite() {
         Some(Instability::NonFinite)
+    } else if paper_is_torn(model, particles) {
+        Some(Instability::Torn)
     } else if mechanical_energy(model, world, particles)
         > RUNAWAY_ENERGY * energy_scale(extent, model, world) + extent.crease_energy
     {
@@ -100,6 +109,25 @@ fn instability_within(
     } else {
         None
     }
+}
+
+/// Whether an edge of a paper part is stretched past [`PAPER_TEAR_STRAIN`].
+fn paper_is_torn(model: &Model, particles: &Particles) -> bool {
+    let papers: Vec<_> = model
+        .cloths
+        .iter()
+        .filter(|c| c.paper.is_some())
+        .map(|c| c.particles())
+        .collect();
+    !papers.is_empty()
+        && model
+            .edges
+            .iter()
+            .filter(|e| papers.iter().any(|r| r.contains(&(e.v[0] as usize))))
+            .any(|e| {
+                let length = particles.x[e.v[0] as usize].distance(particles.x[e.v[1] as usize]);
+                length > (1.0 + PAPER_TEAR_STRAIN) * e.rest_length
+            })
 }
 
 /// The energy a scene can plausibly hold (J): `M (|g| L + v^2 / 2)`, with `M`
@@ -249,6 +277,30 @@ mod tests {
             let unstable = instability(&model, &world, &particles).is_some();
             assert_eq!(unstable, factor > 1.0, "{factor}");
         }
+    }
+
+    #[test]
+    fn stretched_paper_is_torn_and_stretched_cloth_is_not() {
+        use crate::origami::{builtin, paper_material, PaperStiffness, Sheet, SheetOptions};
+        let paper = Sheet::from_pattern(&builtin("single-line").unwrap(), &SheetOptions::default())
+            .unwrap();
+        let mut model = Model::default();
+        model.add_paper("p", &paper, paper_material(), PaperStiffness::default());
+        let world = World::default();
+        let mut particles = Particles::new(model.rest.clone(), &model.mass);
+        for (factor, torn) in [(1.2, false), (1.3, true)] {
+            for (x, rest) in particles.x.iter_mut().zip(&model.rest) {
+                *x = *rest * factor;
+            }
+            let found = instability(&model, &world, &particles);
+            assert_eq!(found == Some(Instability::Torn), torn, "{factor}");
+        }
+        // The same stretch of a cloth (not paper) is not a tear.
+        let (cloth, mut particles) = sheet();
+        for (x, rest) in particles.x.iter_mut().zip(&cloth.rest) {
+            *x = *rest * 1.3;
+        }
+        assert_eq!(instability(&cloth, &world, &particles), None);
     }
 
     #[test]
