@@ -20,9 +20,10 @@ const STRAIN_LIMIT: f32 = 0.02;
 
 /// Patterns whose strain still exceeds [`STRAIN_LIMIT`] at some progress
 /// (open in docs/origami.md), with the bound they keep meanwhile.
-const STRAIN_GAPS: [(&str, f32); 3] = [
+const STRAIN_GAPS: [(&str, f32); 4] = [
     ("hypar.svg", 0.06),
     ("huffmanWaterbomb.svg", 0.04),
+    ("waterbombTwist.svg", 0.04),
     ("huffmanTower.svg", 0.09),
 ];
 
@@ -75,7 +76,7 @@ fn fold(path: &Path, progress: f32) -> (FoldMetrics, bool) {
 #[test]
 fn every_library_pattern_folds_stably_with_little_strain() {
     let files = files();
-    assert!(files.len() >= 18, "{files:?}");
+    assert_eq!(files.len(), 19, "{files:?}");
     let results: Vec<(String, f32, FoldMetrics, bool)> = std::thread::scope(|scope| {
         let handles: Vec<_> = files
             .iter()
