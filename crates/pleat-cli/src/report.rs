@@ -36,6 +36,9 @@ pub struct Report {
     pub unstable: bool,
     /// Simulated time (s) of the first instability, if any.
     pub unstable_at: Option<f32>,
+    /// What it was: `non_finite`, `runaway` (energy) or `torn` (paper
+    /// stretched past 25 %).
+    pub unstable_kind: Option<&'static str>,
     /// Where it showed: the first non-finite particle, else the fastest.
     pub unstable_particle: Option<u32>,
     pub self_intersections: usize,
@@ -148,6 +151,7 @@ impl Report {
             nan: m.nan,
             unstable: m.unstable,
             unstable_at: sim.stability.first.map(|(t, _)| t),
+            unstable_kind: sim.stability.first.map(|(_, kind)| kind.name()),
             unstable_particle: sim.stability.particle,
             self_intersections: m.self_intersections,
             collider_penetrations: m.collider_penetrations,
@@ -192,7 +196,8 @@ impl Report {
         }
         if let Some(t) = self.unstable_at {
             line += &format!(
-                "; unstable from {t:.3} s (particle {})",
+                "; unstable ({}) from {t:.3} s (particle {})",
+                self.unstable_kind.unwrap_or("?"),
                 self.unstable_particle.map_or("?".into(), |p| p.to_string())
             );
         }

@@ -40,6 +40,20 @@ pub enum Instability {
     Torn,
 }
 
+impl Instability {
+    /// The name reports use: `non_finite`, `runaway` or `torn`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Instability::NonFinite => "non_finite",
+            Instability::Runaway => "runaway",
+            Instability::Torn => "torn",
+        }
+    }
+}
+
+/// How long (s) paper must stay torn before the monitor counts it.
+pub const TEAR_PERSISTENCE: f32 = 0.25;
+
 /// Strain past which paper, whose edges have compliance zero, counts as
 /// torn: a solve that leaves an edge a quarter longer than it is has failed.
 pub const PAPER_TEAR_STRAIN: f32 = 0.25;
@@ -53,18 +67,35 @@ pub struct StabilityMonitor {
     pub particle: Option<u32>,
     /// The model's part of the energy scale, measured at the first check.
     extent: Option<RestExtent>,
+    /// Since when (s), and where, paper has been torn without a break.
+    torn_since: Option<(f32, Option<u32>)>,
 }
 
 impl StabilityMonitor {
-    /// Checks the state at the world's time; the first instability found is kept.
+    /// Checks the state at the world's time; the first instability found is
+    /// kept. A tear counts once it has lasted [`TEAR_PERSISTENCE`]: a flap
+    /// that snaps through stretches an edge for a frame or two and heals,
+    /// a crumpled sheet stays torn.
     pub fn check(&mut self, model: &Model, world: &World, particles: &Particles) {
-        if self.first.is_none() {
-            let extent = *self.extent.get_or_insert_with(|| RestExtent::of(model));
-            self.first =
-                instability_within(extent, model, world, particles).map(|kind| (world.time, kind));
-            if self.first.is_some() {
+        if self.first.is_some() {
+            return;
+        }
+        let extent = *self.extent.get_or_insert_with(|| RestExtent::of(model));
+        match instability_within(extent, model, world, particles) {
+            Some(Instability::Torn) => {
+                let (since, particle) = *self
+                    .torn_since
+                    .get_or_insert_with(|| (world.time, culprit(particles)));
+                if world.time - since >= TEAR_PERSISTENCE {
+                    self.first = Some((since, Instability::Torn));
+                    self.particle = particle;
+                }
+            }
+            Some(kind) => {
+                self.first = Some((world.time, kind));
                 self.particle = culprit(particles);
             }
+            None => self.torn_since = None,
         }
     }
 
@@ -295,6 +326,27 @@ mod tests {
             let found = instability(&model, &world, &particles);
             assert_eq!(found == Some(Instability::Torn), torn, "{factor}");
         }
+        // A monitor counts a tear only once it lasts.
+        let mut monitor = StabilityMonitor::default();
+        let mut world = World::default();
+        for _ in 0..10 {
+            world.time += 1.0 / 60.0;
+            monitor.check(&model, &world, &particles);
+        }
+        assert!(!monitor.is_unstable(), "a tear of 10 frames");
+        for (x, rest) in particles.x.iter_mut().zip(&model.rest) {
+            *x = *rest;
+        }
+        monitor.check(&model, &world, &particles);
+        for (x, rest) in particles.x.iter_mut().zip(&model.rest) {
+            *x = *rest * 1.3;
+        }
+        let start = world.time + 1.0 / 60.0;
+        for _ in 0..20 {
+            world.time += 1.0 / 60.0;
+            monitor.check(&model, &world, &particles);
+        }
+        assert_eq!(monitor.first, Some((start, Instability::Torn)));
         // The same stretch of a cloth (not paper) is not a tear.
         let (cloth, mut particles) = sheet();
         for (x, rest) in particles.x.iter_mut().zip(&cloth.rest) {
