@@ -340,10 +340,10 @@ fn malformed_svg_files_are_refused_with_line_and_reason() {
                 "no segments",
             ),
             (
-                "curve",
-                "<svg>\n\n<path stroke=\"red\" d=\"M0 0 c1 1 2 2 3 3\"/></svg>",
+                "arc",
+                "<svg>\n\n<path stroke=\"red\" d=\"M0 0 a1 1 0 0 1 3 3\"/></svg>",
                 "line 3",
-                "<path> d: curve command 'c' is not supported",
+                "<path> d: arc command 'a' is not supported",
             ),
             (
                 "bad path",
