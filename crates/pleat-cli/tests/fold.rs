@@ -83,6 +83,40 @@ fn builtin_folds_and_reports_fold_angle_errors() {
 }
 
 #[test]
+fn a_fold_that_tears_exits_1_and_says_when_and_where() {
+    let dir = scratch("torn");
+    let pattern = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/Crossing_curves.svg"
+    );
+    let out = Command::new(env!("CARGO_BIN_EXE_pleat"))
+        .args([
+            "fold",
+            pattern,
+            "--out",
+            dir.to_str().unwrap(),
+            "--every",
+            "1000",
+        ])
+        .output()
+        .expect("pleat runs");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{text}");
+    assert!(text.contains("unstable (torn) from"), "{text}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    assert_eq!(report["unstable"], true);
+    assert_eq!(report["unstable_kind"], "torn");
+    assert!(report["unstable_at"].as_f64().unwrap() > 0.0);
+    assert!(
+        report["origami"]["worst_hinge"]["error_deg"]
+            .as_f64()
+            .unwrap()
+            > 10.0
+    );
+}
+
+#[test]
 fn malformed_pattern_and_unknown_names_are_refused() {
     let dir = scratch("bad");
     let bad = dir.join("bad.cp");
