@@ -1,6 +1,8 @@
 //! `pleat fold`: fold a crease pattern (a file or a built-in) as paper with
 //! the paper defaults, export its frames and write report.json with the
-//! largest fold-angle errors and strain.
+//! largest fold-angle errors and strain (and where they are); with
+//! `--fold-out` the folded state as FOLD. Exits 1 when the run went NaN or
+//! unstable.
 
 use crate::output::OutputArgs;
 use crate::render::{PictureArgs, Pictures};
@@ -8,10 +10,10 @@ use crate::report::Report;
 use crate::run::{finish, rayon_threads, run_frames, simulate};
 use crate::with_threads;
 use pleat::origami::{
-    builtin, load_pattern, paper_simulation, CreasePattern, FoldRamp, Sheet, SheetOptions,
-    BUILTIN_NAMES,
+    builtin, folded_state_fold, load_pattern, paper_simulation, CreasePattern, FoldRamp, Sheet,
+    SheetOptions, BUILTIN_NAMES,
 };
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 /// Frames the paper is left to settle at the final progress.
@@ -35,6 +37,10 @@ pub struct FoldArgs {
     /// cpu or gpu.
     #[arg(long, default_value = "cpu")]
     pub backend: String,
+    /// Write the folded state at the end as FOLD (3D vertex coordinates,
+    /// each edge's fold angle in degrees) to this file.
+    #[arg(long)]
+    pub fold_out: Option<PathBuf>,
     #[command(flatten)]
     pub output: OutputArgs,
     /// Draw the fold instead of writing meshes: PNG pictures and anim.gif
@@ -94,11 +100,27 @@ pub fn fold(args: &FoldArgs) -> Result<ExitCode, String> {
         finish(&report, output, &args.output)?;
         report
     };
-    Ok(if report.nan {
+    if let Some(path) = &args.fold_out {
+        write_folded_state(&sim, path)?;
+        crate::print_line(format_args!("wrote {}", path.display()));
+    }
+    Ok(if report.nan || report.unstable {
         ExitCode::FAILURE
     } else {
         ExitCode::SUCCESS
     })
+}
+
+/// Writes the folded paper of `sim` as a FOLD file.
+fn write_folded_state(sim: &pleat::Simulation, path: &Path) -> Result<(), String> {
+    let fold = sim
+        .model
+        .cloths
+        .iter()
+        .find_map(|cloth| folded_state_fold(cloth, &sim.particles.x))
+        .ok_or("the simulation has no paper to export")?;
+    let text = serde_json::to_string_pretty(&fold).map_err(|e| e.to_string())?;
+    std::fs::write(path, text + "\n").map_err(|e| format!("{}: {e}", path.display()))
 }
 
 /// The pattern `arg` names, read from a file (anything with an extension,

@@ -38,6 +38,11 @@ pub struct Report {
     pub unstable: bool,
     /// Simulated time (s) of the first instability, if any.
     pub unstable_at: Option<f32>,
+    /// What it was: `non_finite`, `runaway` (energy) or `torn` (paper
+    /// stretched past 25 %).
+    pub unstable_kind: Option<&'static str>,
+    /// Where it showed: the first non-finite particle, else the fastest.
+    pub unstable_particle: Option<u32>,
     pub self_intersections: usize,
     pub collider_penetrations: usize,
     pub kinetic_energy: f32,
@@ -135,6 +140,8 @@ impl Report {
             nan: m.nan,
             unstable: m.unstable,
             unstable_at: sim.stability.first.map(|(t, _)| t),
+            unstable_kind: sim.stability.first.map(|(_, kind)| kind.name()),
+            unstable_particle: sim.stability.particle,
             self_intersections: m.self_intersections,
             collider_penetrations: m.collider_penetrations,
             kinetic_energy: m.kinetic_energy,
@@ -163,10 +170,27 @@ impl Report {
     pub fn fold_line(&self) -> Option<String> {
         let o = self.origami.as_ref()?;
         let e = &o.max_fold_angle_error_deg;
-        Some(format!(
+        let mut line = format!(
             "fold progress {:.3}: largest fold-angle error {:.2} deg mountain, {:.2} deg valley, {:.2} deg flat facets; max strain {:.5}",
             o.fold_progress, e.mountain, e.valley, e.flat, o.max_strain
-        ))
+        );
+        if let Some(h) = &o.worst_hinge {
+            line += &format!(
+                "; worst hinge: {} edge {:?} at {:.1} deg for {:.1}",
+                h.kind, h.edge, h.angle_deg, h.target_deg
+            );
+        }
+        if let Some(f) = &o.worst_facet {
+            line += &format!("; worst facet {:?}", f.triangle);
+        }
+        if let Some(t) = self.unstable_at {
+            line += &format!(
+                "; unstable ({}) from {t:.3} s (particle {})",
+                self.unstable_kind.unwrap_or("?"),
+                self.unstable_particle.map_or("?".into(), |p| p.to_string())
+            );
+        }
+        Some(line)
     }
 
     /// Per-stage timings, for --profile.

@@ -1,5 +1,6 @@
-//! `pleat fold` end to end: a built-in folds and reports its origami
-//! figures; a malformed pattern file is refused with its name and line.
+//! `pleat fold` end to end: a built-in folds, reports its origami figures
+//! and writes its folded state as FOLD; a malformed pattern file is refused
+//! with its name and line.
 
 use std::path::PathBuf;
 use std::process::Command;
@@ -24,9 +25,12 @@ fn pleat(args: &[&str]) -> (bool, String) {
 fn builtin_folds_and_reports_fold_angle_errors() {
     let dir = scratch("miura");
     let out = dir.to_str().unwrap();
+    let folded = dir.join("folded.fold");
     let (ok, text) = pleat(&[
         "fold",
         "miura-ori",
+        "--fold-out",
+        folded.to_str().unwrap(),
         "--progress",
         "0.5",
         "--frames",
@@ -45,6 +49,71 @@ fn builtin_folds_and_reports_fold_angle_errors() {
     assert!(report["origami"]["max_fold_angle_error_deg"]["valley"].is_number());
     assert!(report["origami"]["max_strain"].as_f64().unwrap() < 0.05);
     assert!(dir.join("anim.glb").exists());
+    let worst = &report["origami"]["worst_hinge"];
+    assert!(["mountain", "valley", "flat"].contains(&worst["kind"].as_str().unwrap()));
+    assert!(worst["error_deg"].as_f64().unwrap() >= 0.0);
+    assert_eq!(
+        report["origami"]["worst_facet"]["triangle"]
+            .as_array()
+            .unwrap()
+            .len(),
+        3
+    );
+    let fold: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&folded).unwrap()).unwrap();
+    assert_eq!(fold["frame_classes"][0], "foldedForm");
+    let edges = fold["edges_vertices"].as_array().unwrap().len();
+    assert_eq!(fold["edges_foldAngle"].as_array().unwrap().len(), edges);
+    assert_eq!(fold["edges_assignment"].as_array().unwrap().len(), edges);
+    assert_eq!(
+        fold["vertices_coords"].as_array().unwrap().len(),
+        report["particles"].as_u64().unwrap() as usize
+    );
+    // Half way, the valleys fold by about 90 degrees (valley positive).
+    let valleys: Vec<f64> = fold["edges_assignment"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(fold["edges_foldAngle"].as_array().unwrap())
+        .filter(|(a, _)| *a == "V")
+        .map(|(_, angle)| angle.as_f64().unwrap())
+        .collect();
+    assert!(!valleys.is_empty());
+    assert!(valleys.iter().all(|&a| a > 0.0 && a < 180.0), "{valleys:?}");
+}
+
+#[test]
+fn a_fold_that_tears_exits_1_and_says_when_and_where() {
+    let dir = scratch("torn");
+    let pattern = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/Crossing_curves.svg"
+    );
+    let out = Command::new(env!("CARGO_BIN_EXE_pleat"))
+        .args([
+            "fold",
+            pattern,
+            "--out",
+            dir.to_str().unwrap(),
+            "--every",
+            "1000",
+        ])
+        .output()
+        .expect("pleat runs");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{text}");
+    assert!(text.contains("unstable (torn) from"), "{text}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    assert_eq!(report["unstable"], true);
+    assert_eq!(report["unstable_kind"], "torn");
+    assert!(report["unstable_at"].as_f64().unwrap() > 0.0);
+    assert!(
+        report["origami"]["worst_hinge"]["error_deg"]
+            .as_f64()
+            .unwrap()
+            > 10.0
+    );
 }
 
 #[test]

@@ -33,5 +33,8 @@ fn unstable_run_is_reported_not_crashed() {
     assert_eq!(report["unstable"], true);
     assert_eq!(report["nan"], true);
     assert!(report["unstable_at"].as_f64().unwrap() < 0.1);
+    assert!(report["unstable_particle"].as_u64().unwrap() < 33 * 33);
+    // The energy runs away before the positions overflow.
+    assert_eq!(report["unstable_kind"], "runaway");
     std::fs::remove_dir_all(&dir).unwrap();
 }

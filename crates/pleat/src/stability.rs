@@ -7,9 +7,13 @@
 //! The mechanical energy is kinetic plus gravitational potential energy
 //! measured from the rest shape. A passive cloth starts at zero and can only
 //! lose it (its elastic energy is never negative), so energy far above what
-//! gravity, wind and moving pins or colliders could put in is runaway. The
-//! same figure lets solvers be compared on one scale whatever their elastic
-//! model.
+//! gravity, wind and moving pins or colliders could put in is runaway. Paper
+//! is not passive: its driven creases store elastic energy that a flap
+//! snapping flat turns into motion, and motion can never hold more than
+//! that, so their energy at full progress
+//! ([`crate::origami::Paper::crease_energy`]) is added to the runaway
+//! threshold. The same figure lets solvers be compared on one scale
+//! whatever their elastic model.
 
 use crate::collide::Motion;
 use crate::model::Model;
@@ -17,7 +21,8 @@ use crate::particles::Particles;
 use crate::world::World;
 use glam::Vec3;
 
-/// Mechanical energy above this many times [`energy_scale`] is runaway.
+/// Mechanical energy above this many times [`energy_scale`] (plus what
+/// paper creases can release) is runaway.
 pub const RUNAWAY_ENERGY: f32 = 100.0;
 
 /// Speed (m/s) added to the world's own, so that a still, weightless scene has a scale.
@@ -30,30 +35,87 @@ pub enum Instability {
     NonFinite,
     /// The mechanical energy exceeds [`RUNAWAY_ENERGY`] times [`energy_scale`].
     Runaway,
+    /// An edge of paper is longer than its rest length by more than
+    /// [`PAPER_TEAR_STRAIN`]: the inextensible sheet has crumpled.
+    Torn,
 }
 
-/// The first instability a simulation ran into, and when.
+impl Instability {
+    /// The name reports use: `non_finite`, `runaway` or `torn`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Instability::NonFinite => "non_finite",
+            Instability::Runaway => "runaway",
+            Instability::Torn => "torn",
+        }
+    }
+}
+
+/// How long (s) paper must stay torn before the monitor counts it.
+pub const TEAR_PERSISTENCE: f32 = 0.25;
+
+/// Strain past which paper, whose edges have compliance zero, counts as
+/// torn: a solve that leaves an edge a quarter longer than it is has failed.
+pub const PAPER_TEAR_STRAIN: f32 = 0.25;
+
+/// The first instability a simulation ran into, when and where.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct StabilityMonitor {
     /// Simulated time (s) and kind of the first instability.
     pub first: Option<(f32, Instability)>,
+    /// Where it showed: the first non-finite particle, else the fastest.
+    pub particle: Option<u32>,
     /// The model's part of the energy scale, measured at the first check.
     extent: Option<RestExtent>,
+    /// Since when (s), and where, paper has been torn without a break.
+    torn_since: Option<(f32, Option<u32>)>,
 }
 
 impl StabilityMonitor {
-    /// Checks the state at the world's time; the first instability found is kept.
+    /// Checks the state at the world's time; the first instability found is
+    /// kept. A tear counts once it has lasted [`TEAR_PERSISTENCE`]: a flap
+    /// that snaps through stretches an edge for a frame or two and heals,
+    /// a crumpled sheet stays torn.
     pub fn check(&mut self, model: &Model, world: &World, particles: &Particles) {
-        if self.first.is_none() {
-            let extent = *self.extent.get_or_insert_with(|| RestExtent::of(model));
-            self.first =
-                instability_within(extent, model, world, particles).map(|kind| (world.time, kind));
+        if self.first.is_some() {
+            return;
+        }
+        let extent = *self.extent.get_or_insert_with(|| RestExtent::of(model));
+        match instability_within(extent, model, world, particles) {
+            Some(Instability::Torn) => {
+                let (since, particle) = *self
+                    .torn_since
+                    .get_or_insert_with(|| (world.time, culprit(particles)));
+                if world.time - since >= TEAR_PERSISTENCE {
+                    self.first = Some((since, Instability::Torn));
+                    self.particle = particle;
+                }
+            }
+            Some(kind) => {
+                self.first = Some((world.time, kind));
+                self.particle = culprit(particles);
+            }
+            None => self.torn_since = None,
         }
     }
 
     pub fn is_unstable(&self) -> bool {
         self.first.is_some()
     }
+}
+
+/// The first particle whose position or velocity is not finite, else the
+/// fastest; `None` without particles.
+fn culprit(particles: &Particles) -> Option<u32> {
+    let finite = |i: &usize| particles.x[*i].is_finite() && particles.v[*i].is_finite();
+    let index = (0..particles.len()).find(|i| !finite(i)).or_else(|| {
+        (0..particles.len()).max_by(|&a, &b| {
+            particles.v[a]
+                .length_squared()
+                .total_cmp(&particles.v[b].length_squared())
+        })
+    })?;
+    u32::try_from(index).ok()
 }
 
 /// The instability of a state, if any.
@@ -69,8 +131,10 @@ fn instability_within(
 ) -> Option<Instability> {
     if particles.has_non_finite() || !world.bodies_are_finite() {
         Some(Instability::NonFinite)
+    } else if paper_is_torn(model, particles) {
+        Some(Instability::Torn)
     } else if mechanical_energy(model, world, particles)
-        > RUNAWAY_ENERGY * energy_scale(extent, model, world)
+        > RUNAWAY_ENERGY * energy_scale(extent, model, world) + extent.crease_energy
     {
         Some(Instability::Runaway)
     } else {
@@ -78,12 +142,33 @@ fn instability_within(
     }
 }
 
+/// Whether an edge of a paper part is stretched past [`PAPER_TEAR_STRAIN`].
+fn paper_is_torn(model: &Model, particles: &Particles) -> bool {
+    let papers: Vec<_> = model
+        .cloths
+        .iter()
+        .filter(|c| c.paper.is_some())
+        .map(|c| c.particles())
+        .collect();
+    !papers.is_empty()
+        && model
+            .edges
+            .iter()
+            .filter(|e| papers.iter().any(|r| r.contains(&(e.v[0] as usize))))
+            .any(|e| {
+                let length = particles.x[e.v[0] as usize].distance(particles.x[e.v[1] as usize]);
+                length > (1.0 + PAPER_TEAR_STRAIN) * e.rest_length
+            })
+}
+
 /// The energy a scene can plausibly hold (J): `M (|g| L + v^2 / 2)`, with `M`
 /// the dynamic mass (cloth and rigid bodies, which can hand theirs to the cloth), `L` the diagonal of the rest shape's bounding box and
 /// `v` the fastest the world moves (wind with its turbulence, scripted pins
 /// and colliders) plus one metre per second.
 pub fn energy_scale(extent: RestExtent, model: &Model, world: &World) -> f32 {
-    let RestExtent { mass, size, centre } = extent;
+    let RestExtent {
+        mass, size, centre, ..
+    } = extent;
     let wind = world.wind.map_or(0.0, |w| {
         w.velocity.length() * (1.0 + w.turbulence * 3f32.sqrt())
     });
@@ -109,6 +194,8 @@ pub struct RestExtent {
     /// Diagonal of the rest shape's bounding box (m).
     pub size: f32,
     pub centre: Vec3,
+    /// Elastic energy the driven creases of paper parts can release (J).
+    pub crease_energy: f32,
 }
 
 impl RestExtent {
@@ -117,10 +204,16 @@ impl RestExtent {
             (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
             |(lo, hi), x| (lo.min(*x), hi.max(*x)),
         );
+        let crease_energy = model
+            .cloths
+            .iter()
+            .filter_map(|c| Some(c.paper.as_ref()?.crease_energy(c, &model.rest)))
+            .sum();
         RestExtent {
             mass: model.mass.iter().sum(),
             size: (hi - lo).length().max(0.0),
             centre: (lo + hi) / 2.0,
+            crease_energy,
         }
     }
 }
@@ -186,10 +279,80 @@ mod tests {
         world.time = 1.0;
         monitor.check(&model, &world, &particles);
         assert_eq!(monitor.first, Some((0.5, Instability::Runaway)));
+        assert_eq!(monitor.particle, Some(4), "the fast particle");
         assert_eq!(
             instability(&model, &world, &particles),
             Some(Instability::NonFinite)
         );
+    }
+
+    #[test]
+    fn creases_of_paper_raise_the_threshold_by_the_energy_they_hold() {
+        use crate::origami::{builtin, paper_material, PaperStiffness, Sheet, SheetOptions};
+        let sheet = Sheet::from_pattern(&builtin("single-line").unwrap(), &SheetOptions::default())
+            .unwrap();
+        let mut model = Model::default();
+        model.add_paper("p", &sheet, paper_material(), PaperStiffness::default());
+        let world = World::default();
+        let extent = RestExtent::of(&model);
+        // One crease 1 m long folded by pi: L pi^2 / (2 alpha).
+        let alpha = PaperStiffness::default().crease_compliance;
+        let expected = std::f32::consts::PI.powi(2) / (2.0 * alpha);
+        assert!((extent.crease_energy - expected).abs() < 1e-3 * expected);
+        let threshold = RUNAWAY_ENERGY * energy_scale(extent, &model, &world) + expected;
+        let mut particles = Particles::new(model.rest.clone(), &model.mass);
+        let mass: f32 = model.mass.iter().sum();
+        for factor in [0.9f32, 1.1] {
+            let speed = (2.0 * factor * threshold / mass).sqrt();
+            particles.v.fill(Vec3::new(0.0, 0.0, speed));
+            let unstable = instability(&model, &world, &particles).is_some();
+            assert_eq!(unstable, factor > 1.0, "{factor}");
+        }
+    }
+
+    #[test]
+    fn stretched_paper_is_torn_and_stretched_cloth_is_not() {
+        use crate::origami::{builtin, paper_material, PaperStiffness, Sheet, SheetOptions};
+        let paper = Sheet::from_pattern(&builtin("single-line").unwrap(), &SheetOptions::default())
+            .unwrap();
+        let mut model = Model::default();
+        model.add_paper("p", &paper, paper_material(), PaperStiffness::default());
+        let world = World::default();
+        let mut particles = Particles::new(model.rest.clone(), &model.mass);
+        for (factor, torn) in [(1.2, false), (1.3, true)] {
+            for (x, rest) in particles.x.iter_mut().zip(&model.rest) {
+                *x = *rest * factor;
+            }
+            let found = instability(&model, &world, &particles);
+            assert_eq!(found == Some(Instability::Torn), torn, "{factor}");
+        }
+        // A monitor counts a tear only once it lasts.
+        let mut monitor = StabilityMonitor::default();
+        let mut world = World::default();
+        for _ in 0..10 {
+            world.time += 1.0 / 60.0;
+            monitor.check(&model, &world, &particles);
+        }
+        assert!(!monitor.is_unstable(), "a tear of 10 frames");
+        for (x, rest) in particles.x.iter_mut().zip(&model.rest) {
+            *x = *rest;
+        }
+        monitor.check(&model, &world, &particles);
+        for (x, rest) in particles.x.iter_mut().zip(&model.rest) {
+            *x = *rest * 1.3;
+        }
+        let start = world.time + 1.0 / 60.0;
+        for _ in 0..20 {
+            world.time += 1.0 / 60.0;
+            monitor.check(&model, &world, &particles);
+        }
+        assert_eq!(monitor.first, Some((start, Instability::Torn)));
+        // The same stretch of a cloth (not paper) is not a tear.
+        let (cloth, mut particles) = sheet();
+        for (x, rest) in particles.x.iter_mut().zip(&cloth.rest) {
+            *x = *rest * 1.3;
+        }
+        assert_eq!(instability(&cloth, &world, &particles), None);
     }
 
     #[test]

@@ -128,6 +128,7 @@ fn refined_sheets_stay_sound() {
         let options = SheetOptions {
             size: 2.0,
             max_edge: Some(0.25),
+            ..SheetOptions::default()
         };
         let refined = Sheet::from_pattern(&pattern, &options).unwrap();
         assert!(refined.triangles.len() >= plain.triangles.len(), "{file}");
@@ -237,9 +238,9 @@ fn malformed_cp_files_are_refused_with_line_and_reason() {
             ),
             (
                 "unknown type",
-                "4 0 0 1 1",
+                "5 0 0 1 1",
                 "line 1",
-                "unknown line type '4'",
+                "unknown line type '5'",
             ),
             ("empty", "\r\n", "", "no segments"),
         ],
@@ -339,10 +340,10 @@ fn malformed_svg_files_are_refused_with_line_and_reason() {
                 "no segments",
             ),
             (
-                "curve",
-                "<svg>\n\n<path stroke=\"red\" d=\"M0 0 c1 1 2 2 3 3\"/></svg>",
+                "arc",
+                "<svg>\n\n<path stroke=\"red\" d=\"M0 0 a1 1 0 0 1 3 3\"/></svg>",
                 "line 3",
-                "<path> d: curve command 'c' is not supported",
+                "<path> d: arc command 'a' is not supported",
             ),
             (
                 "bad path",

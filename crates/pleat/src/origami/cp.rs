@@ -1,5 +1,6 @@
 //! ORIPA `.cp` importer: one segment a line, `type x1 y1 x2 y2`, type 0
-//! auxiliary, 1 boundary (or cut), 2 mountain, 3 valley.
+//! auxiliary, 1 boundary (or cut), 2 mountain, 3 valley, 4 auxiliary (what
+//! many editors write for auxiliary lines; read, never folded).
 //!
 //! Blank lines are skipped, fields may be separated by any whitespace, CR LF
 //! line endings and a missing final newline are accepted. Coordinates are
@@ -50,12 +51,12 @@ fn parse_line(fields: &[&str]) -> Result<(Assignment, DVec2, DVec2), String> {
 
 fn line_type(field: &str) -> Result<Assignment, String> {
     match field {
-        "0" => Ok(Assignment::Auxiliary),
+        "0" | "4" => Ok(Assignment::Auxiliary),
         "1" => Ok(Assignment::Boundary),
         "2" => Ok(Assignment::Mountain),
         "3" => Ok(Assignment::Valley),
         other => Err(format!(
-            "unknown line type '{other}' (expected 0 auxiliary, 1 boundary, 2 mountain, 3 valley)"
+            "unknown line type '{other}' (expected 0 or 4 auxiliary, 1 boundary, 2 mountain, 3 valley)"
         )),
     }
 }
@@ -75,7 +76,7 @@ mod tests {
     #[test]
     fn reads_types_scientific_notation_and_crlf() {
         let p = parse_cp(
-            "1 -0.0 200.0 2.4492935982947064E-14 -200.0\r\n\r\n0 0 0 1 1\n2 0 0 1 0\n3 1 0 1 1",
+            "1 -0.0 200.0 2.4492935982947064E-14 -200.0\r\n\r\n0 0 0 1 1\n2 0 0 1 0\n3 1 0 1 1\n4 0 1 1 0",
         )
         .unwrap();
         let kinds: Vec<_> = p.edges.iter().map(|e| e.assignment).collect();
@@ -85,12 +86,13 @@ mod tests {
                 Assignment::Boundary,
                 Assignment::Auxiliary,
                 Assignment::Mountain,
-                Assignment::Valley
+                Assignment::Valley,
+                Assignment::Auxiliary
             ]
         );
         assert_eq!(p.vertices[p.edges[0].v[1]].x, 2.4492935982947064E-14);
-        // (0, 0) and (1, 1) and (1, 0) are shared exactly.
-        assert_eq!(p.vertices.len(), 5);
+        // (0, 0), (1, 1), (1, 0) and (0, 1) are shared exactly.
+        assert_eq!(p.vertices.len(), 6);
     }
 
     #[test]

@@ -292,7 +292,11 @@ pub fn to_fold_json(pattern: &CreasePattern) -> String {
         .iter()
         .map(|e| serde_json::json!(e.v))
         .collect();
-    let letters: Vec<&str> = pattern.edges.iter().map(|e| letter(e.assignment)).collect();
+    let letters: Vec<&str> = pattern
+        .edges
+        .iter()
+        .map(|e| assignment_letter(e.assignment))
+        .collect();
     let angles: Vec<Option<f64>> = pattern.edges.iter().map(|e| e.fold_angle).collect();
     let fold = serde_json::json!({
         "file_spec": 1.1,
@@ -309,7 +313,8 @@ pub fn to_fold_json(pattern: &CreasePattern) -> String {
     serde_json::to_string_pretty(&fold).unwrap_or_else(|_| String::from("{}"))
 }
 
-fn letter(assignment: Assignment) -> &'static str {
+/// The FOLD letter of an assignment (`B`, `M`, `V`, `F`, `U`, `C`).
+pub(crate) fn assignment_letter(assignment: Assignment) -> &'static str {
     match assignment {
         Assignment::Boundary => "B",
         Assignment::Mountain => "M",

@@ -20,11 +20,12 @@ pub use builtin::{builtin, Kresling, MiuraOri, BUILTIN_NAMES};
 pub use cp::parse_cp;
 pub use fold::{parse_fold, to_fold_json};
 pub use folding::{
-    hinge_states, paper_material, paper_simulation, paper_solver_settings, FoldAngleErrors,
-    FoldMetrics, FoldRamp, HingeState, Paper, PaperStiffness,
+    folded_state_fold, hinge_states, paper_material, paper_simulation, paper_solver_settings,
+    FoldAngleErrors, FoldMetrics, FoldRamp, HingeState, Paper, PaperStiffness, WorstFacet,
+    WorstHinge,
 };
 pub use pattern::{
     load_pattern, load_pattern_with_warnings, Assignment, CreasePattern, PatternEdge, PatternError,
 };
-pub use sheet::{Hinge, Sheet, SheetOptions};
+pub use sheet::{Hinge, Sheet, SheetOptions, MERGE_TOLERANCE};
 pub use svg::{parse_svg, SvgImport};

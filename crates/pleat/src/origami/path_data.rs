@@ -1,7 +1,12 @@
-//! The small SVG grammars the importer needs: path data (`d`, straight
-//! commands only), point lists (`points`) and `transform` lists.
+//! The small SVG grammars the importer needs: path data (`d`; cubic and
+//! quadratic Bezier curves flattened into [`CURVE_SEGMENTS`] straight
+//! pieces, as curved creases are folded as polylines; arcs refused), point
+//! lists (`points`) and `transform` lists.
 
 use glam::{DAffine2, DVec2};
+
+/// Straight pieces a Bezier curve of path data becomes.
+pub const CURVE_SEGMENTS: usize = 8;
 
 /// One subpath of a path, polygon or polyline: its points in order and
 /// whether it closes back to the first.
@@ -97,7 +102,8 @@ impl<'a> Scanner<'a> {
     }
 }
 
-/// Path data with M, L, H, V, Z (absolute and relative) into subpaths.
+/// Path data with M, L, H, V, Z, C, S, Q, T (absolute and relative) into
+/// subpaths.
 pub fn parse_path(d: &str) -> Result<Vec<Subpath>, String> {
     let mut s = Scanner::new(d);
     let mut pen = PathPen::default();
@@ -137,12 +143,20 @@ struct PathPen {
     start: DVec2,
     current: Option<Subpath>,
     done: Vec<Subpath>,
+    /// The last control point of the previous command when it was a cubic
+    /// (`C`, `S`) or quadratic (`Q`, `T`) curve, which `S` and `T` reflect.
+    last_cubic: Option<DVec2>,
+    last_quadratic: Option<DVec2>,
 }
 
 impl PathPen {
     fn apply(&mut self, command: u8, s: &mut Scanner) -> Result<(), String> {
         let relative = command.is_ascii_lowercase();
         let origin = if relative { self.at } else { DVec2::ZERO };
+        let (last_cubic, last_quadratic) = (self.last_cubic.take(), self.last_quadratic.take());
+        // The reflection of a previous control point about the current
+        // point, or the current point itself.
+        let reflect = |control: Option<DVec2>, at: DVec2| control.map_or(at, |c| 2.0 * at - c);
         match command.to_ascii_uppercase() {
             b'M' => {
                 self.end_subpath();
@@ -163,10 +177,32 @@ impl PathPen {
                 self.end_subpath();
                 self.at = self.start;
             }
-            b'C' | b'S' | b'Q' | b'T' | b'A' => {
+            b'C' => {
+                let c1 = origin + s.pair()?;
+                let c2 = origin + s.pair()?;
+                let end = origin + s.pair()?;
+                self.cubic_to(c1, c2, end);
+            }
+            b'S' => {
+                let c1 = reflect(last_cubic, self.at);
+                let c2 = origin + s.pair()?;
+                let end = origin + s.pair()?;
+                self.cubic_to(c1, c2, end);
+            }
+            b'Q' => {
+                let c = origin + s.pair()?;
+                let end = origin + s.pair()?;
+                self.quadratic_to(c, end);
+            }
+            b'T' => {
+                let c = reflect(last_quadratic, self.at);
+                let end = origin + s.pair()?;
+                self.quadratic_to(c, end);
+            }
+            b'A' => {
                 return Err(format!(
-                    "curve command '{}' is not supported (creases are straight: \
-                     flatten curves to line segments)",
+                    "arc command '{}' is not supported (flatten arcs to line segments \
+                     or Bezier curves)",
                     command as char
                 ))
             }
@@ -191,6 +227,31 @@ impl PathPen {
             .points
             .push(p);
         self.at = p;
+    }
+
+    /// The cubic Bezier curve from the current point, flattened.
+    fn cubic_to(&mut self, c1: DVec2, c2: DVec2, end: DVec2) {
+        let p0 = self.at;
+        for k in 1..=CURVE_SEGMENTS {
+            let t = k as f64 / CURVE_SEGMENTS as f64;
+            let u = 1.0 - t;
+            let p = u * u * u * p0 + 3.0 * u * u * t * c1 + 3.0 * u * t * t * c2 + t * t * t * end;
+            // The end point exactly, so that curves meet their neighbours.
+            self.line_to(if k == CURVE_SEGMENTS { end } else { p });
+        }
+        self.last_cubic = Some(c2);
+    }
+
+    /// The quadratic Bezier curve from the current point, flattened.
+    fn quadratic_to(&mut self, c: DVec2, end: DVec2) {
+        let p0 = self.at;
+        for k in 1..=CURVE_SEGMENTS {
+            let t = k as f64 / CURVE_SEGMENTS as f64;
+            let u = 1.0 - t;
+            let p = u * u * p0 + 2.0 * u * t * c + t * t * end;
+            self.line_to(if k == CURVE_SEGMENTS { end } else { p });
+        }
+        self.last_quadratic = Some(c);
     }
 
     fn end_subpath(&mut self) {
@@ -350,13 +411,47 @@ mod tests {
     }
 
     #[test]
+    fn bezier_curves_are_flattened_through_their_points() {
+        // A cubic from (0, 0) to (3, 0) with controls (1, 3), (2, 3): its
+        // middle is at (1.5, 2.25); then a smooth continuation (relative),
+        // whose first control mirrors (2, 3) about (3, 0).
+        let paths = parse_path("M0 0 C1 3 2 3 3 0 s2 -3 3 0").unwrap();
+        let p = &paths[0].points;
+        assert_eq!(p.len(), 1 + 2 * CURVE_SEGMENTS);
+        let middle = p[CURVE_SEGMENTS / 2];
+        assert!(
+            (middle - DVec2::new(1.5, 2.25)).length() < 1e-12,
+            "{middle}"
+        );
+        assert_eq!(p[CURVE_SEGMENTS], DVec2::new(3.0, 0.0));
+        assert_eq!(*p.last().unwrap(), DVec2::new(6.0, 0.0));
+        // The smooth curve is the first one turned over: below the axis.
+        let second = p[CURVE_SEGMENTS + CURVE_SEGMENTS / 2];
+        assert!(
+            (second - DVec2::new(4.5, -2.25)).length() < 1e-12,
+            "{second}"
+        );
+        // A quadratic and its smooth continuation.
+        let q = parse_path("M0 0 Q1 2 2 0 T4 0").unwrap();
+        let q = &q[0].points;
+        assert!((q[CURVE_SEGMENTS / 2] - DVec2::new(1.0, 1.0)).length() < 1e-12);
+        assert!((q[CURVE_SEGMENTS + CURVE_SEGMENTS / 2] - DVec2::new(3.0, -1.0)).length() < 1e-12);
+        // An S after a line uses the current point as its first control.
+        let s = parse_path("M0 0 L1 0 S2 1 3 0").unwrap();
+        assert_eq!(*s[0].points.last().unwrap(), DVec2::new(3.0, 0.0));
+    }
+
+    #[test]
     fn path_errors() {
         assert!(parse_path("L1 1")
             .unwrap_err()
             .contains("must start with a moveto"));
-        assert!(parse_path("M1 1 q1 1 2 2")
+        assert!(parse_path("M1 1 a1 1 0 0 1 2 2")
             .unwrap_err()
-            .contains("curve command 'q'"));
+            .contains("arc command 'a'"));
+        assert!(parse_path("M1 1 c1 1 2")
+            .unwrap_err()
+            .contains("expected a number"));
         assert!(parse_path("M1 1 L2")
             .unwrap_err()
             .contains("expected a number"));

@@ -19,7 +19,7 @@ use spade::{
 };
 
 use super::pattern::{Assignment, CreasePattern, PatternError};
-use super::planar::{planarize, DEFAULT_TOLERANCE};
+use super::planar::planarize;
 
 type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
 
@@ -36,6 +36,19 @@ const GRID: f64 = (1u64 << 40) as f64;
 /// Smallest angle refinement aims for, in degrees.
 const REFINEMENT_ANGLE: f64 = 20.0;
 
+/// Default [`SheetOptions::merge_tolerance`]: 0.3 % of the pattern's
+/// diameter, the 3 px of Origami Simulator's import on its 600 to 1000 px
+/// drawings. Points that close are one vertex and a point that close to an
+/// edge lies on it, so boundaries drawn as short segments with tiny gaps
+/// close, and near-coincident vertices leave no sliver triangles (a
+/// triangle a few ten-thousandths as high as it is long has a dihedral
+/// gradient so steep that folding it blows up).
+pub const MERGE_TOLERANCE: f64 = 3e-3;
+
+/// Largest merge tolerance accepted: beyond a tenth of the diameter whole
+/// features would collapse.
+const MAX_MERGE_TOLERANCE: f64 = 0.1;
+
 /// How the pattern becomes a sheet.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SheetOptions {
@@ -44,6 +57,10 @@ pub struct SheetOptions {
     /// Target edge length for refinement, in metres; `None` keeps only the
     /// pattern's own vertices.
     pub max_edge: Option<f64>,
+    /// Points closer than this fraction of the pattern's diameter are
+    /// merged, and points this close to an edge split it
+    /// ([`MERGE_TOLERANCE`] by default).
+    pub merge_tolerance: f64,
 }
 
 impl Default for SheetOptions {
@@ -51,6 +68,7 @@ impl Default for SheetOptions {
         SheetOptions {
             size: 1.0,
             max_edge: None,
+            merge_tolerance: MERGE_TOLERANCE,
         }
     }
 }
@@ -87,7 +105,7 @@ impl Sheet {
         options: &SheetOptions,
     ) -> Result<Sheet, PatternError> {
         check_options(options)?;
-        let graph = planarize(pattern, DEFAULT_TOLERANCE)?;
+        let graph = planarize(pattern, options.merge_tolerance)?;
         if graph.edges.is_empty() {
             return Err(PatternError::new(
                 "",
@@ -129,6 +147,15 @@ fn check_options(options: &SheetOptions) -> Result<(), PatternError> {
             format!(
                 "must be a positive number of metres, found {}",
                 options.size
+            ),
+        ));
+    }
+    if !(0.0..=MAX_MERGE_TOLERANCE).contains(&options.merge_tolerance) {
+        return Err(PatternError::new(
+            "merge_tolerance",
+            format!(
+                "must be between 0 and {MAX_MERGE_TOLERANCE} (a fraction of the pattern's size), found {}",
+                options.merge_tolerance
             ),
         ));
     }
@@ -722,6 +749,7 @@ mod tests {
         let options = SheetOptions {
             size: 1.0,
             max_edge: Some(0.1),
+            ..SheetOptions::default()
         };
         let s = Sheet::from_pattern(&b.finish(), &options).unwrap();
         assert!(s.triangles.len() > 100, "{}", s.triangles.len());
@@ -747,23 +775,23 @@ mod tests {
         let pattern = CreasePattern::default();
         let size = SheetOptions {
             size: 0.0,
-            max_edge: None,
+            ..SheetOptions::default()
         };
         assert_eq!(
             Sheet::from_pattern(&pattern, &size).unwrap_err().location,
             "size"
         );
         let edge = SheetOptions {
-            size: 1.0,
             max_edge: Some(f64::NAN),
+            ..SheetOptions::default()
         };
         assert_eq!(
             Sheet::from_pattern(&pattern, &edge).unwrap_err().location,
             "max_edge"
         );
         let tiny = SheetOptions {
-            size: 1.0,
             max_edge: Some(1e-6),
+            ..SheetOptions::default()
         };
         let mut segments = square(1.0);
         segments.push((Assignment::Valley, [0.5, 0.0, 0.5, 1.0], None));

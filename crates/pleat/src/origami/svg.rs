@@ -5,9 +5,9 @@
 //!
 //! Reads `line`, `path`, `rect`, `polygon` and `polyline` under the root
 //! `<svg>` and inside `<g>` groups (with their `transform`s and inherited
-//! `stroke`). Paths take M, L, H, V, Z in absolute and relative form; curve
-//! commands (C, S, Q, T, A) are refused with an error naming them, since a
-//! crease is straight. Rounded rectangle corners (`rx`) are drawn square.
+//! `stroke`). Paths take M, L, H, V, Z, C, S, Q, T in absolute and relative
+//! form: curves (curved creases) become polylines of 8 straight pieces;
+//! arcs (A) are refused with an error naming them. Rounded rectangle corners (`rx`) are drawn square.
 //! Strokes of other colours are ignored with a warning. The y axis is turned
 //! to point up, so the sheet looks like the drawing seen from +z.
 //!
@@ -449,10 +449,10 @@ mod tests {
 
     #[test]
     fn errors_name_line_and_reason() {
-        let e = parse_svg(&svg(r#"<path d="M0,0 C1,1 2,2 3,3" stroke="red"/>"#)).unwrap_err();
+        let e = parse_svg(&svg(r#"<path d="M0,0 A1,1 0 0 1 3,3" stroke="red"/>"#)).unwrap_err();
         assert!(
             e.to_string()
-                .starts_with("line 5: <path> d: curve command 'C'"),
+                .starts_with("line 5: <path> d: arc command 'A'"),
             "{e}"
         );
         let e = parse_svg(&svg(r#"<line x1="a" stroke="red"/>"#)).unwrap_err();

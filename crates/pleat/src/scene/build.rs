@@ -149,6 +149,7 @@ fn pattern_sheet(spec: &PatternMeshSpec, base_dir: &Path) -> Result<Sheet, Patte
     let options = SheetOptions {
         size: spec.size as f64,
         max_edge: spec.max_edge.map(f64::from),
+        ..SheetOptions::default()
     };
     let mut sheet = Sheet::from_pattern(&pattern, &options)?;
     for p in &mut sheet.positions {
