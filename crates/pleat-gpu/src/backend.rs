@@ -9,6 +9,7 @@
 use crate::context::{GpuContext, GpuError};
 use crate::data::{self, Attachment, Counts, GpuPose, Params, Range};
 use crate::kernels::{workgroups, Kernels, UNIFORM_STRIDE};
+use crate::timing::{TimedStage, Timestamps};
 use bytemuck::Pod;
 use glam::Vec3;
 use pleat::collide::ColliderPose;
@@ -90,6 +91,8 @@ pub struct GpuBackend {
     buffers: KernelBuffers,
     per_substep: PerSubstep,
     stages: Stages,
+    /// Per-stage GPU times, where the adapter has timestamp queries.
+    timestamps: Option<Timestamps>,
     hard_pins: Vec<pleat::constraint::Attachment>,
     soft_pins: Vec<pleat::constraint::Attachment>,
     progress: f32,
@@ -358,6 +361,7 @@ impl GpuBackend {
         );
         let backend = GpuBackend {
             context: context.clone(),
+            timestamps: Timestamps::new(device, &context.queue, settings.substeps.max(1)),
             stages,
             kernels,
             counts,
@@ -786,45 +790,60 @@ impl GpuBackend {
         substeps
     }
 
-    /// Records one substep's dispatches.
+    /// Records one substep as four passes (stamped where the adapter has
+    /// timestamps): prediction, constraints, self-contacts, collisions.
     fn record_substep(
         &self,
-        pass: &mut wgpu::ComputePass<'_>,
+        encoder: &mut wgpu::CommandEncoder,
         s: u32,
-        wind: bool,
+        world: &World,
         iterations: u32,
-        grab: bool,
     ) {
         let st = &self.stages;
-        pass.set_bind_group(0, &st.state, &[s * UNIFORM_STRIDE as u32]);
         let particles = self.counts.particles;
-        if wind {
-            dispatch(pass, &st.wind[0], Some(self.counts.triangles));
-            dispatch(pass, &st.wind[1], Some(particles));
-        }
-        dispatch(pass, &st.predict, Some(particles));
-        if let Some(pins) = &st.pins {
-            dispatch(pass, pins, None);
-        }
-        for _ in 0..iterations {
-            for stage in &st.constraints {
-                dispatch(pass, stage, None);
+        let mut pass = |stage: TimedStage, record: &mut dyn FnMut(&mut wgpu::ComputePass<'_>)| {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("substep"),
+                timestamp_writes: self.timestamps.as_ref().and_then(|t| t.writes(s, stage)),
+            });
+            pass.set_bind_group(0, &st.state, &[s * UNIFORM_STRIDE as u32]);
+            record(&mut pass);
+        };
+        pass(TimedStage::Predict, &mut |pass| {
+            if world.wind.is_some() {
+                dispatch(pass, &st.wind[0], Some(self.counts.triangles));
+                dispatch(pass, &st.wind[1], Some(particles));
             }
-        }
-        if let Some(track) = &st.track {
-            dispatch(pass, track, None);
-        }
-        if grab {
-            pass.set_pipeline(&st.grab.pipeline);
-            pass.dispatch_workgroups(1, 1, 1);
-        }
-        if let Some(contact) = &st.self_contact {
-            contact.record(pass, particles);
-        }
-        if let Some(collide) = &st.collide {
-            dispatch(pass, collide, Some(particles));
-        }
-        dispatch(pass, &st.update_velocities, Some(particles));
+            dispatch(pass, &st.predict, Some(particles));
+            if let Some(pins) = &st.pins {
+                dispatch(pass, pins, None);
+            }
+        });
+        pass(TimedStage::Constraints, &mut |pass| {
+            for _ in 0..iterations {
+                for stage in &st.constraints {
+                    dispatch(pass, stage, None);
+                }
+            }
+            if let Some(track) = &st.track {
+                dispatch(pass, track, None);
+            }
+            if world.grab.is_some() {
+                pass.set_pipeline(&st.grab.pipeline);
+                pass.dispatch_workgroups(1, 1, 1);
+            }
+        });
+        pass(TimedStage::SelfContacts, &mut |pass| {
+            if let Some(contact) = &st.self_contact {
+                contact.record(pass, particles);
+            }
+        });
+        pass(TimedStage::Collisions, &mut |pass| {
+            if let Some(collide) = &st.collide {
+                dispatch(pass, collide, Some(particles));
+            }
+            dispatch(pass, &st.update_velocities, Some(particles));
+        });
     }
 
     /// Copies the three state buffers back, blocking until they arrive.
@@ -905,39 +924,48 @@ impl Backend for GpuBackend {
         frame_dt: f32,
         stages: &mut StageTimes,
     ) {
-        let start = web_time::Instant::now();
+        if let Some(t) = &mut self.timestamps {
+            t.collect(stages);
+        }
         let substeps = self.write_frame(world, settings, frame_dt);
-        let device = &self.context.device;
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("frame"),
-        });
-        let wind = world.wind.is_some();
-        let grab = world.grab.is_some();
+        if let Some(t) = &mut self.timestamps {
+            t.begin_frame(substeps);
+        }
+        let mut encoder =
+            self.context
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("frame"),
+                });
         for s in 0..substeps {
             for lambda in &self.lambdas {
                 encoder.clear_buffer(lambda, 0, None);
             }
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("substep"),
-                timestamp_writes: None,
-            });
-            self.record_substep(&mut pass, s, wind, settings.iterations, grab);
+            self.record_substep(&mut encoder, s, world, settings.iterations);
+        }
+        if let Some(t) = &self.timestamps {
+            t.resolve(&mut encoder, substeps);
         }
         self.context.queue.submit([encoder.finish()]);
+        if let Some(t) = &mut self.timestamps {
+            t.request(substeps);
+        }
         // Frees the resources of finished frames without waiting.
-        let _ = device.poll(wgpu::PollType::Poll);
-        stages.constraints += start.elapsed();
+        let _ = self.context.device.poll(wgpu::PollType::Poll);
     }
 
     fn set_fold_progress(&mut self, c: f32) {
         self.progress = c;
     }
 
-    fn finish(&mut self) {
+    fn finish(&mut self, stages: &mut StageTimes) {
         let _ = self
             .context
             .device
             .poll(wgpu::PollType::wait_indefinitely());
+        if let Some(t) = &mut self.timestamps {
+            t.collect(stages);
+        }
     }
 
     fn steps_in_place(&self) -> bool {

@@ -76,7 +76,8 @@ impl GpuContext {
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("pleat-gpu"),
-                required_features: wgpu::Features::empty(),
+                // Per-stage times where the adapter can stamp passes.
+                required_features: adapter.features() & wgpu::Features::TIMESTAMP_QUERY,
                 required_limits: Self::limits(&adapter.limits()),
                 ..Default::default()
             })

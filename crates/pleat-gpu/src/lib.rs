@@ -25,6 +25,7 @@ mod context;
 mod data;
 mod kernels;
 pub mod shaders;
+mod timing;
 
 pub use backend::GpuBackend;
 pub use context::{GpuContext, GpuError};

@@ -56,9 +56,10 @@ pub trait Backend: MaybeSend {
     /// Drives every origami hinge to `c` times its full fold angle.
     fn set_fold_progress(&mut self, c: f32);
 
-    /// Waits until every step handed to the device has run (for timing);
-    /// nothing to wait for on the CPU.
-    fn finish(&mut self);
+    /// Waits until every step handed to the device has run (for timing),
+    /// adding the device's per-stage times to `stages` where it measures
+    /// them; nothing to wait for on the CPU.
+    fn finish(&mut self, stages: &mut StageTimes);
 
     /// Whether the state lives in the `particles` passed to [`Backend::step`].
     fn steps_in_place(&self) -> bool;
@@ -119,7 +120,7 @@ impl Backend for CpuBackend {
         self.solver.set_fold_progress(c);
     }
 
-    fn finish(&mut self) {}
+    fn finish(&mut self, _stages: &mut StageTimes) {}
 
     fn steps_in_place(&self) -> bool {
         true

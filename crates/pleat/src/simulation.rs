@@ -111,7 +111,7 @@ impl Simulation {
 
     /// Waits until the steps handed to the backend have run (GPU timing).
     pub fn finish(&mut self) {
-        self.backend.finish();
+        self.backend.finish(&mut self.stages);
     }
 
     /// Hands edited [`Simulation::particles`] back to the backend.
