@@ -9,6 +9,7 @@
 use crate::context::{GpuContext, GpuError};
 use crate::data::{self, Attachment, Counts, GpuPose, Params, Range};
 use crate::kernels::{workgroups, Kernels, UNIFORM_STRIDE};
+use crate::readback::Readback;
 use crate::timing::{TimedStage, Timestamps};
 use bytemuck::Pod;
 use glam::Vec3;
@@ -93,6 +94,8 @@ pub struct GpuBackend {
     stages: Stages,
     /// Per-stage GPU times, where the adapter has timestamp queries.
     timestamps: Option<Timestamps>,
+    /// A read of the state asked for and not yet taken.
+    pending: Option<Readback>,
     hard_pins: Vec<pleat::constraint::Attachment>,
     soft_pins: Vec<pleat::constraint::Attachment>,
     progress: f32,
@@ -362,6 +365,7 @@ impl GpuBackend {
         let backend = GpuBackend {
             context: context.clone(),
             timestamps: Timestamps::new(device, &context.queue, settings.substeps.max(1)),
+            pending: None,
             stages,
             kernels,
             counts,
@@ -846,39 +850,48 @@ impl GpuBackend {
         });
     }
 
+    /// Starts copying the three state buffers back.
+    fn start_readback(&self) -> Readback {
+        let size = self.counts.particles as u64 * PARTICLE_BYTES;
+        Readback::start(
+            &self.context.device,
+            &self.context.queue,
+            &[&self.pos, &self.prev, &self.vel],
+            size,
+        )
+    }
+
     /// Copies the three state buffers back, blocking until they arrive.
     fn read_state(&self) -> Result<Vec<[f32; 4]>, GpuError> {
-        let (device, queue) = (&self.context.device, &self.context.queue);
-        let size = self.counts.particles as u64 * PARTICLE_BYTES;
-        let staging = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("readback"),
-            size: (3 * size).max(16),
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let mut encoder = device.create_command_encoder(&Default::default());
-        for (k, buffer) in [&self.pos, &self.prev, &self.vel].into_iter().enumerate() {
-            encoder.copy_buffer_to_buffer(buffer, 0, &staging, k as u64 * size, size);
-        }
-        queue.submit([encoder.finish()]);
-        let (sender, receiver) = std::sync::mpsc::channel();
-        staging.map_async(wgpu::MapMode::Read, .., move |r| {
-            let _ = sender.send(r);
-        });
-        device
+        let readback = self.start_readback();
+        self.context
+            .device
             .poll(wgpu::PollType::wait_indefinitely())
             .map_err(|e| GpuError::Readback(e.to_string()))?;
-        receiver
-            .recv()
-            .map_err(|e| GpuError::Readback(e.to_string()))?
-            .map_err(|e| GpuError::Readback(e.to_string()))?;
-        let data = staging
-            .get_mapped_range(..)
-            .map_err(|e| GpuError::Readback(e.to_string()))?;
-        let state = bytemuck::cast_slice::<u8, [f32; 4]>(&data[..(3 * size) as usize]).to_vec();
-        drop(data);
-        staging.unmap();
-        Ok(state)
+        readback
+            .try_take()
+            .unwrap_or_else(|| Err(GpuError::Readback("the state did not arrive".into())))
+    }
+
+    /// Puts `state` (positions, previous positions, velocities) into
+    /// `particles`; a failed read leaves them NaN, so the run ends flagged,
+    /// never silently wrong.
+    fn unpack(state: Result<Vec<[f32; 4]>, GpuError>, particles: &mut Particles) {
+        let n = particles.len();
+        match state {
+            Ok(state) => {
+                let xyz = |k: usize| Vec3::new(state[k][0], state[k][1], state[k][2]);
+                for i in 0..n {
+                    particles.x[i] = xyz(i);
+                    particles.x_prev[i] = xyz(n + i);
+                    particles.v[i] = xyz(2 * n + i);
+                }
+            }
+            Err(e) => {
+                eprintln!("error: {e}");
+                particles.x.fill(Vec3::NAN);
+            }
+        }
     }
 }
 
@@ -973,22 +986,24 @@ impl Backend for GpuBackend {
     }
 
     fn download(&mut self, particles: &mut Particles) {
-        let n = particles.len();
-        match self.read_state() {
-            Ok(state) => {
-                let xyz = |k: usize| Vec3::new(state[k][0], state[k][1], state[k][2]);
-                for i in 0..n {
-                    particles.x[i] = xyz(i);
-                    particles.x_prev[i] = xyz(n + i);
-                    particles.v[i] = xyz(2 * n + i);
-                }
-            }
-            Err(e) => {
-                // Reported as a NaN state: the run ends flagged, never silently wrong.
-                eprintln!("error: {e}");
-                particles.x.fill(Vec3::NAN);
-            }
+        self.pending = None;
+        Self::unpack(self.read_state(), particles);
+    }
+
+    fn request_download(&mut self) {
+        if self.pending.is_none() {
+            self.pending = Some(self.start_readback());
         }
+    }
+
+    fn try_download(&mut self, particles: &mut Particles) -> bool {
+        let _ = self.context.device.poll(wgpu::PollType::Poll);
+        let Some(state) = self.pending.as_ref().and_then(Readback::try_take) else {
+            return false;
+        };
+        self.pending = None;
+        Self::unpack(state, particles);
+        true
     }
 
     fn as_any(&self) -> &dyn std::any::Any {

@@ -24,6 +24,7 @@ mod backend;
 mod context;
 mod data;
 mod kernels;
+mod readback;
 pub mod shaders;
 mod timing;
 

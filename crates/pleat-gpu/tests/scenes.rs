@@ -227,3 +227,23 @@ fn self_contacts_are_bit_identical_between_runs() {
     run(&mut b, &scene, 60);
     assert!(a.particles.x == b.particles.x);
 }
+
+#[test]
+fn state_read_without_blocking_matches_the_blocking_read() {
+    let scene = scene_file("drape.json");
+    let (mut a, mut b) = (gpu(&scene), gpu(&scene));
+    for sim in [&mut a, &mut b] {
+        for _ in 0..10 {
+            sim.step(scene.frame_dt());
+        }
+    }
+    a.sync();
+    b.request_sync();
+    let mut polls = 0;
+    while !b.try_sync() {
+        polls += 1;
+        assert!(polls < 100_000, "the state never arrived");
+        std::thread::yield_now();
+    }
+    assert!(a.particles.x == b.particles.x && a.particles.v == b.particles.v);
+}

@@ -68,6 +68,19 @@ pub trait Backend: MaybeSend {
     /// velocities); nothing to do for a backend that steps in place.
     fn download(&mut self, particles: &mut Particles);
 
+    /// Starts copying the backend's state back without waiting for it
+    /// (WebGPU maps buffers only between turns of the event loop); see
+    /// [`Backend::try_download`].
+    fn request_download(&mut self) {}
+
+    /// Puts the state asked for by [`Backend::request_download`] into
+    /// `particles` if it has arrived, and says whether it did. A backend
+    /// that steps in place has it at once.
+    fn try_download(&mut self, particles: &mut Particles) -> bool {
+        self.download(particles);
+        true
+    }
+
     /// Replaces the backend's state by `particles` (after the caller edited
     /// them); nothing to do for a backend that steps in place.
     fn upload(&mut self, particles: &Particles);

@@ -109,6 +109,26 @@ impl Simulation {
         &self.particles
     }
 
+    /// Asks the backend for its state without waiting (the browser's way);
+    /// [`Simulation::try_sync`] takes it when it has arrived.
+    pub fn request_sync(&mut self) {
+        if !self.synced {
+            self.backend.request_download();
+        }
+    }
+
+    /// Takes the state asked for by [`Simulation::request_sync`] if it has
+    /// arrived (the state as it was when asked for) and checks it for
+    /// instability; says whether [`Simulation::particles`] is now current.
+    pub fn try_sync(&mut self) -> bool {
+        if !self.synced && self.backend.try_download(&mut self.particles) {
+            self.synced = true;
+            self.stability
+                .check(&self.model, &self.world, &self.particles);
+        }
+        self.synced
+    }
+
     /// Waits until the steps handed to the backend have run (GPU timing).
     pub fn finish(&mut self) {
         self.backend.finish(&mut self.stages);
