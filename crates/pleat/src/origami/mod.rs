@@ -25,7 +25,8 @@ pub use folding::{
     WorstHinge,
 };
 pub use pattern::{
-    load_pattern, load_pattern_with_warnings, Assignment, CreasePattern, PatternEdge, PatternError,
+    load_pattern, load_pattern_with_warnings, parse_pattern, Assignment, CreasePattern,
+    PatternEdge, PatternError,
 };
 pub use sheet::{Hinge, Sheet, SheetOptions, MERGE_TOLERANCE};
 pub use svg::{parse_svg, SvgImport};
