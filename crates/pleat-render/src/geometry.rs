@@ -52,7 +52,7 @@ pub struct Incidence {
 impl Incidence {
     pub fn new(particles: usize, triangles: &[[u32; 3]]) -> Self {
         let incidence =
-            pleat::solver::incidence::Incidence::new(triangles, particles, |t| t.as_slice());
+            pleat::mesh::incidence::Incidence::new(triangles, particles, |t| t.as_slice());
         let (start, slots) = incidence.rows();
         Incidence {
             start: start.to_vec(),

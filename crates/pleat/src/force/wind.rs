@@ -8,8 +8,8 @@
 //! varying in time.
 
 use super::noise::value_noise;
+use crate::mesh::incidence::Incidence;
 use crate::particles::Particles;
-use crate::solver::incidence::Incidence;
 use glam::Vec3;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};

@@ -9,6 +9,7 @@
 
 pub mod generate;
 pub mod grid;
+pub mod incidence;
 pub mod obj;
 mod topology;
 

@@ -11,11 +11,11 @@
 //! constraint, then one gather per particle over its incident constraints in
 //! a fixed order, so the result does not depend on the thread count.
 
-use super::incidence::Incidence;
 use super::position_based::PbdLoop;
 use super::springs::{spring_pairs, SpringKind};
 use super::{SolverKind, SolverSettings, StageTimes};
 use crate::constraint::DistanceConstraint;
+use crate::mesh::incidence::Incidence;
 use crate::model::Model;
 use crate::particles::Particles;
 use crate::world::World;

@@ -13,13 +13,13 @@
 //! around a particle over its mass; past that the cloth explodes, which is
 //! what this solver is here to show.
 
-use super::incidence::Incidence;
 use super::position_based::{attachments, Contacts, HardPins};
 use super::springs::{spring_pairs, SpringKind};
 use super::{SolverKind, SolverSettings, StageTimes};
 use crate::constraint::Attachment;
 use crate::force::{Spring, WindForces};
 use crate::material::SpringCoefficients;
+use crate::mesh::incidence::Incidence;
 use crate::model::Model;
 use crate::particles::Particles;
 use crate::world::World;

@@ -2,7 +2,6 @@
 //! [`Solver`] interface, so scenes choose one by name.
 
 pub mod coloring;
-pub mod incidence;
 pub mod jacobi;
 pub mod mass_spring;
 pub mod parallel;
