@@ -15,7 +15,7 @@ use bytemuck::Pod;
 use glam::Vec3;
 use pleat::collide::ColliderPose;
 use pleat::constraint::DistanceConstraint;
-use pleat::force::WindForces;
+use pleat::mesh::incidence::Incidence;
 use pleat::model::Model;
 use pleat::solver::jacobi::JacobiConstraints;
 use pleat::solver::parallel::ColoredConstraints;
@@ -68,6 +68,16 @@ impl RangeTable {
     }
 }
 
+/// The per-substep parameters, pin targets and collider poses of a frame,
+/// written on the CPU before upload.
+#[derive(Default)]
+struct FrameData {
+    /// One [`Params`] every [`UNIFORM_STRIDE`] bytes.
+    params: Vec<u8>,
+    targets: Vec<[f32; 4]>,
+    poses: Vec<GpuPose>,
+}
+
 /// Buffers whose size depends on the number of substeps per frame.
 struct PerSubstep {
     capacity: u32,
@@ -96,6 +106,8 @@ pub struct GpuBackend {
     timestamps: Option<Timestamps>,
     /// A read of the state asked for and not yet taken.
     pending: Option<Readback>,
+    /// What each frame uploads, kept so that a step allocates nothing.
+    frame_data: FrameData,
     hard_pins: Vec<pleat::constraint::Attachment>,
     soft_pins: Vec<pleat::constraint::Attachment>,
     progress: f32,
@@ -213,84 +225,26 @@ impl GpuBackend {
         let device = &context.device;
         let n = model.particle_count();
         check_size(context, n as u64 * PARTICLE_BYTES, "particle state")?;
-        let mut constraints = XpbdConstraints::new(model);
-        constraints.set_fold_progress(0.0);
-        let (hard, _) = attachments(model);
+        let (hard, soft) = attachments(model);
         let hard_pins = hard.attachments().to_vec();
-        let soft_pins = constraints.soft_attachments.items.clone();
-        let slot0 = hard_pins.len() as u32;
-        let soft_gpu: Vec<Attachment> = soft_pins
-            .iter()
-            .enumerate()
-            .map(|(k, a)| Attachment {
-                particle: a.particle[0],
-                compliance: a.compliance,
-                slot: slot0 + k as u32,
-                pad: 0,
-            })
-            .collect();
         let mut table = RangeTable::default();
         let whole = table.push(0, 0);
-        let c = &constraints;
-        let mut kinds = vec![
-            xpbd_kind(
-                context,
-                &mut table,
-                (ConstraintKind::Hinge, "hinges"),
-                &c.hinges,
-                &c.hinges.items,
-            )?,
-            xpbd_kind(
-                context,
-                &mut table,
-                (ConstraintKind::Distance, "distance constraints"),
-                &c.distance,
-                &c.distance.items,
-            )?,
-            xpbd_kind(
-                context,
-                &mut table,
-                (ConstraintKind::Bending, "bending"),
-                &c.bending,
-                &c.bending.items,
-            )?,
-            xpbd_kind(
-                context,
-                &mut table,
-                (ConstraintKind::Isometric, "isometric bending"),
-                &c.isometric,
-                &c.isometric.items,
-            )?,
-            xpbd_kind(
-                context,
-                &mut table,
-                (ConstraintKind::Attachment, "soft attachments"),
-                &c.soft_attachments,
-                &soft_gpu,
-            )?,
-            xpbd_kind(
-                context,
-                &mut table,
-                (ConstraintKind::Tether, "tethers"),
-                &c.tethers,
-                &c.tethers.items,
-            )?,
-        ];
-        let mut constraint_count = constraints.len() + hard_pins.len();
-        if settings.kind == SolverKind::JacobiPbd {
-            let jacobi = JacobiConstraints::new(model);
-            check_size(
-                context,
-                jacobi.constraints.len() as u64 * 32,
-                "Jacobi corrections",
-            )?;
-            constraint_count = jacobi.constraints.len() + hard_pins.len() + soft_pins.len();
-            kinds.retain(|k| k.kind == ConstraintKind::Attachment);
-            kinds.splice(0..0, jacobi_buffers(device, &jacobi, n as u32, &mut table));
-        }
+        let projection = match settings.kind {
+            SolverKind::JacobiPbd => {
+                jacobi_projection(context, model, soft, hard_pins.len(), &mut table)?
+            }
+            _ => xpbd_projection(context, model, hard_pins.len(), &mut table)?,
+        };
+        let Projection {
+            kinds,
+            soft_pins,
+            hinge_count,
+            constraint_count,
+        } = projection;
         let hard_indices: Vec<u32> = hard_pins.iter().map(|a| a.particle[0]).collect();
-        let wind_forces = WindForces::new(&model.triangles, n);
-        let (start, around) = wind_forces.adjacency();
+        let incidence = Incidence::new(&model.triangles, n, |t| t.as_slice());
+        let (start, slots) = incidence.rows();
+        let around: Vec<u32> = slots.iter().map(|s| s.element).collect();
         let flat_triangles: Vec<u32> = model.triangles.iter().flatten().copied().collect();
         let contact = settings.self_collision.enabled.then(|| {
             SelfContactBuffers::new(
@@ -298,18 +252,18 @@ impl GpuBackend {
                 model,
                 settings.self_collision.thickness,
                 &flat_triangles,
-                (start, around),
+                (start, &around),
             )
         });
         let buffers = KernelBuffers {
             pin_dispatch: table.push(0, hard_indices.len() as u32),
-            track_dispatch: table.push(0, c.hinges.len() as u32),
+            track_dispatch: table.push(0, hinge_count),
             constraints: kinds,
             hard_pins: storage(device, "hard pins", &hard_indices),
             triangles: storage(device, "triangles", &flat_triangles),
             triangle_force: zeroed(device, "triangle forces", model.triangles.len() as u64 * 16),
             around_start: storage(device, "around start", start),
-            around: storage(device, "around", around),
+            around: storage(device, "around", &around),
             colliders: storage(device, "colliders", &colliders),
             sdf_values: storage(device, "distance fields", &sdf_values),
             thickness: storage(device, "thickness", &model.thickness),
@@ -366,6 +320,7 @@ impl GpuBackend {
             context: context.clone(),
             timestamps: Timestamps::new(device, &context.queue, settings.substeps.max(1)),
             pending: None,
+            frame_data: FrameData::default(),
             stages,
             kernels,
             counts,
@@ -433,15 +388,16 @@ impl SelfContactStage {
 struct Stages {
     state: wgpu::BindGroup,
     wind: [Stage; 2],
-    predict: Stage,
+    /// Kernels of the state alone (group 0).
+    predict: wgpu::ComputePipeline,
     pins: Option<Stage>,
     /// In projection order: hinges, distances, bending, isometric, soft attachments, tethers.
     constraints: Vec<Stage>,
     track: Option<Stage>,
-    grab: Stage,
+    grab: wgpu::ComputePipeline,
     self_contact: Option<SelfContactStage>,
     collide: Option<Stage>,
-    update_velocities: Stage,
+    update_velocities: wgpu::ComputePipeline,
 }
 
 impl Stages {
@@ -481,11 +437,6 @@ impl Stages {
             bind_group: group(buffers),
             dispatches,
         };
-        let unbound = |pipeline: &wgpu::ComputePipeline, dispatches| Stage {
-            pipeline: pipeline.clone(),
-            bind_group: group([pos, pos, pos, pos]),
-            dispatches,
-        };
         let wind_buffers = [&b.triangles, &b.triangle_force, &b.around_start, &b.around];
         let constraints = b
             .constraints
@@ -523,7 +474,7 @@ impl Stages {
                 stage(&kernels.triangle_forces, wind_buffers, vec![b.whole]),
                 stage(&kernels.gather, wind_buffers, vec![b.whole]),
             ],
-            predict: unbound(&kernels.predict, vec![]),
+            predict: kernels.predict.clone(),
             pins: (b.pin_dispatch.1 > 0).then(|| {
                 stage(
                     &kernels.place_pins,
@@ -544,7 +495,7 @@ impl Stages {
                     vec![b.track_dispatch],
                 )
             }),
-            grab: unbound(&kernels.grab, vec![]),
+            grab: kernels.grab.clone(),
             self_contact: b.self_contact.as_ref().map(|c| SelfContactStage {
                 bind_group: group([&c.grid, &c.topology, &c.rest, &c.accum]),
                 pipelines: kernels.self_contact.clone(),
@@ -562,7 +513,7 @@ impl Stages {
                     vec![b.whole],
                 )
             }),
-            update_velocities: unbound(&kernels.update_velocities, vec![]),
+            update_velocities: kernels.update_velocities.clone(),
             state,
         }
     }
@@ -633,6 +584,134 @@ fn zeroed(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     })
+}
+
+/// How a backend projects the cloth's constraints: the kinds it
+/// dispatches in order, and what else the rest of the backend needs.
+struct Projection {
+    kinds: Vec<ConstraintBuffers>,
+    /// Soft attachments in the order of their kernel (their targets follow
+    /// the hard pins' in the per-substep target array).
+    soft_pins: Vec<pleat::constraint::Attachment>,
+    hinge_count: u32,
+    /// Constraints projected per iteration, pins included.
+    constraint_count: usize,
+}
+
+/// XPBD: hinges, distances, bending, isometric bending, soft attachments
+/// and tethers, each coloured.
+fn xpbd_projection(
+    context: &GpuContext,
+    model: &Model,
+    hard_pins: usize,
+    table: &mut RangeTable,
+) -> Result<Projection, GpuError> {
+    let c = XpbdConstraints::new(model);
+    let (soft_kind, soft_pins) = soft_attachments(context, table, &c.soft_attachments, hard_pins)?;
+    let kinds = vec![
+        xpbd_kind(
+            context,
+            table,
+            (ConstraintKind::Hinge, "hinges"),
+            &c.hinges,
+            &c.hinges.items,
+        )?,
+        xpbd_kind(
+            context,
+            table,
+            (ConstraintKind::Distance, "distance constraints"),
+            &c.distance,
+            &c.distance.items,
+        )?,
+        xpbd_kind(
+            context,
+            table,
+            (ConstraintKind::Bending, "bending"),
+            &c.bending,
+            &c.bending.items,
+        )?,
+        xpbd_kind(
+            context,
+            table,
+            (ConstraintKind::Isometric, "isometric bending"),
+            &c.isometric,
+            &c.isometric.items,
+        )?,
+        soft_kind,
+        xpbd_kind(
+            context,
+            table,
+            (ConstraintKind::Tether, "tethers"),
+            &c.tethers,
+            &c.tethers.items,
+        )?,
+    ];
+    Ok(Projection {
+        kinds,
+        soft_pins,
+        hinge_count: c.hinges.len() as u32,
+        constraint_count: c.len() + hard_pins,
+    })
+}
+
+/// Jacobi PBD: corrections, their gather, then the soft attachments (as
+/// the CPU's position-based loop solves them after each iteration).
+fn jacobi_projection(
+    context: &GpuContext,
+    model: &Model,
+    soft: Vec<pleat::constraint::Attachment>,
+    hard_pins: usize,
+    table: &mut RangeTable,
+) -> Result<Projection, GpuError> {
+    let jacobi = JacobiConstraints::new(model);
+    check_size(
+        context,
+        jacobi.constraints.len() as u64 * 32,
+        "Jacobi corrections",
+    )?;
+    let soft = ColoredConstraints::new(soft, model.particle_count());
+    let [correct, gather] = jacobi_buffers(
+        &context.device,
+        &jacobi,
+        model.particle_count() as u32,
+        table,
+    );
+    let (soft_kind, soft_pins) = soft_attachments(context, table, &soft, hard_pins)?;
+    Ok(Projection {
+        kinds: vec![correct, gather, soft_kind],
+        constraint_count: jacobi.constraints.len() + hard_pins + soft_pins.len(),
+        soft_pins,
+        hinge_count: 0,
+    })
+}
+
+/// The soft attachments' kernel data: each with the slot of its target
+/// after the `hard_pins` hard pins' targets.
+fn soft_attachments(
+    context: &GpuContext,
+    table: &mut RangeTable,
+    set: &ColoredConstraints<pleat::constraint::Attachment>,
+    hard_pins: usize,
+) -> Result<(ConstraintBuffers, Vec<pleat::constraint::Attachment>), GpuError> {
+    let gpu: Vec<Attachment> = set
+        .items
+        .iter()
+        .enumerate()
+        .map(|(k, a)| Attachment {
+            particle: a.particle[0],
+            compliance: a.compliance,
+            slot: (hard_pins + k) as u32,
+            pad: 0,
+        })
+        .collect();
+    let kind = xpbd_kind(
+        context,
+        table,
+        (ConstraintKind::Attachment, "soft attachments"),
+        set,
+        &gpu,
+    )?;
+    Ok((kind, set.items.clone()))
 }
 
 /// One XPBD constraint kind on the GPU: its items as the kernel reads
@@ -759,9 +838,15 @@ impl GpuBackend {
     fn write_frame(&mut self, world: &World, settings: &SolverSettings, frame_dt: f32) -> u32 {
         let substeps = settings.substeps.max(1);
         self.reserve(substeps);
-        let mut params = vec![0u8; (substeps as u64 * UNIFORM_STRIDE) as usize];
-        let mut targets: Vec<[f32; 4]> = Vec::new();
-        let mut poses: Vec<GpuPose> = Vec::new();
+        let FrameData {
+            params,
+            targets,
+            poses,
+        } = &mut self.frame_data;
+        params.clear();
+        params.resize((substeps as u64 * UNIFORM_STRIDE) as usize, 0);
+        targets.clear();
+        poses.clear();
         for (s, (t, dt)) in substep_times(world.time, frame_dt, substeps).enumerate() {
             let p = Params::at(
                 world,
@@ -784,12 +869,12 @@ impl GpuBackend {
             );
         }
         let queue = &self.context.queue;
-        queue.write_buffer(&self.per_substep.params, 0, &params);
+        queue.write_buffer(&self.per_substep.params, 0, params);
         if !targets.is_empty() {
-            queue.write_buffer(&self.per_substep.targets, 0, bytemuck::cast_slice(&targets));
+            queue.write_buffer(&self.per_substep.targets, 0, bytemuck::cast_slice(targets));
         }
         if !poses.is_empty() {
-            queue.write_buffer(&self.per_substep.poses, 0, bytemuck::cast_slice(&poses));
+            queue.write_buffer(&self.per_substep.poses, 0, bytemuck::cast_slice(poses));
         }
         substeps
     }
@@ -818,7 +903,7 @@ impl GpuBackend {
                 dispatch(pass, &st.wind[0], Some(self.counts.triangles));
                 dispatch(pass, &st.wind[1], Some(particles));
             }
-            dispatch(pass, &st.predict, Some(particles));
+            over_particles(pass, &st.predict, particles);
             if let Some(pins) = &st.pins {
                 dispatch(pass, pins, None);
             }
@@ -833,7 +918,7 @@ impl GpuBackend {
                 dispatch(pass, track, None);
             }
             if world.grab.is_some() {
-                pass.set_pipeline(&st.grab.pipeline);
+                pass.set_pipeline(&st.grab);
                 pass.dispatch_workgroups(1, 1, 1);
             }
         });
@@ -846,7 +931,7 @@ impl GpuBackend {
             if let Some(collide) = &st.collide {
                 dispatch(pass, collide, Some(particles));
             }
-            dispatch(pass, &st.update_velocities, Some(particles));
+            over_particles(pass, &st.update_velocities, particles);
         });
     }
 
@@ -893,6 +978,17 @@ impl GpuBackend {
             }
         }
     }
+}
+
+/// Dispatches a kernel of the state alone over `particles` invocations.
+fn over_particles(
+    pass: &mut wgpu::ComputePass<'_>,
+    pipeline: &wgpu::ComputePipeline,
+    particles: u32,
+) {
+    pass.set_pipeline(pipeline);
+    let (x, y) = workgroups(particles);
+    pass.dispatch_workgroups(x, y, 1);
 }
 
 /// Dispatches `stage` over each of its slices, or over `count` invocations.

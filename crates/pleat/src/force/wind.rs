@@ -107,12 +107,6 @@ impl WindForces {
         }
     }
 
-    /// The triangles around each vertex as compressed rows: those around
-    /// vertex `i` are `around[start[i]..start[i + 1]]`; returns `(start, around)`.
-    pub fn adjacency(&self) -> (&[u32], &[u32]) {
-        (&self.start, &self.around)
-    }
-
     /// Applies the wind to the velocities over `dt`. The velocity change of a
     /// particle is capped at its speed relative to the air, so that drag can
     /// bring a particle to the wind's speed but never past it (stable for any
