@@ -79,7 +79,12 @@ pub struct Renderer {
     settings: RenderSettings,
     particles: usize,
     index_count: u32,
+    camera: Camera,
     view_proj: Mat4,
+    light_view_proj: Mat4,
+    /// Radius of the scene's bounding sphere: where the near and far planes go.
+    radius: f32,
+    globals: wgpu::Buffer,
     strain_range: f32,
     /// The model holds paper (crease patterns): paper colours and constraint kinds.
     is_paper: bool,
@@ -193,7 +198,7 @@ impl Renderer {
             &device,
             "globals",
             bytemuck::bytes_of(&globals),
-            wgpu::BufferUsages::UNIFORM,
+            wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         );
 
         // The cloth's buffers.
@@ -409,7 +414,11 @@ impl Renderer {
             settings,
             particles,
             index_count: model.triangles.len() as u32 * 3,
+            camera,
             view_proj,
+            light_view_proj,
+            radius,
+            globals,
             strain_range,
             is_paper,
             global_bind_group,
@@ -513,39 +522,7 @@ impl Renderer {
         positions: Positions<'_>,
         world: &World,
     ) -> Result<RgbaImage, RenderError> {
-        let positions = match positions {
-            Positions::Cpu(x) => {
-                if x.len() != self.particles {
-                    return Err(RenderError::ParticleCount {
-                        got: x.len(),
-                        expected: self.particles,
-                    });
-                }
-                if !x.is_empty() {
-                    self.queue.write_buffer(
-                        &self.own_positions,
-                        0,
-                        bytemuck::cast_slice(&vec4s(x)),
-                    );
-                }
-                self.own_positions.clone()
-            }
-            Positions::Gpu(buffer) => {
-                if !buffer.usage().contains(wgpu::BufferUsages::STORAGE) {
-                    return Err(RenderError::Setting(
-                        "the position buffer needs BufferUsages::STORAGE".into(),
-                    ));
-                }
-                let held = (buffer.size() / 16) as usize;
-                if held < self.particles {
-                    return Err(RenderError::ParticleCount {
-                        got: held,
-                        expected: self.particles,
-                    });
-                }
-                buffer.clone()
-            }
-        };
+        let positions = self.positions_buffer(positions)?;
         self.upload_meshes(world);
         let mut encoder = self
             .device
@@ -579,17 +556,133 @@ impl Renderer {
                 };
                 draw_strain_legend(&mut image, self.strain_range, max);
             }
-            View::Constraints => {
-                let kinds = if self.is_paper {
-                    [&CONSTRAINT_KINDS[3..], &CONSTRAINT_KINDS[..1]].concat()
-                } else {
-                    CONSTRAINT_KINDS[..3].to_vec()
-                };
-                draw_constraint_legend(&mut image, &kinds);
-            }
+            View::Constraints => draw_constraint_legend(&mut image, &self.constraint_kinds()),
             _ => {}
         }
         Ok(image)
+    }
+
+    /// Draws one frame into [`Renderer::picture`] and submits it without
+    /// reading it back: for a window that shows the texture (the app),
+    /// where waiting for the pixels would stall (WebGPU cannot wait at all).
+    /// Legends are the window's to draw.
+    pub fn draw(&mut self, positions: Positions<'_>, world: &World) -> Result<(), RenderError> {
+        let positions = self.positions_buffer(positions)?;
+        self.upload_meshes(world);
+        let mut encoder = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("frame"),
+            });
+        self.encode(&mut encoder, &positions);
+        self.queue.submit([encoder.finish()]);
+        Ok(())
+    }
+
+    /// The texture frames are drawn into (sRGB, `width` x `height`, can be
+    /// sampled): the picture of the last [`Renderer::draw`].
+    pub fn picture(&self) -> &wgpu::Texture {
+        &self.targets.resolved
+    }
+
+    /// The constraint kinds the constraint view colours (name, linear RGB),
+    /// in legend order.
+    pub fn constraint_kinds(&self) -> Vec<(&'static str, [f32; 3])> {
+        if self.is_paper {
+            [&CONSTRAINT_KINDS[3..], &CONSTRAINT_KINDS[..1]].concat()
+        } else {
+            CONSTRAINT_KINDS[..3].to_vec()
+        }
+    }
+
+    /// Strain drawn full red in the strain view.
+    pub fn strain_range(&self) -> f32 {
+        self.strain_range
+    }
+
+    /// The camera frames are drawn from.
+    pub fn camera(&self) -> Camera {
+        self.camera
+    }
+
+    /// Moves the camera: later frames are drawn from `camera` (the app's orbit).
+    pub fn set_camera(&mut self, camera: Camera) {
+        self.camera = camera;
+        self.settings.camera = Some(camera);
+        self.write_globals();
+    }
+
+    /// Changes the picture's size (a window resized).
+    pub fn resize(&mut self, width: u32, height: u32) -> Result<(), RenderError> {
+        let max = self.device.limits().max_texture_dimension_2d;
+        if !(1..=max).contains(&width) || !(1..=max).contains(&height) {
+            return Err(RenderError::Size { width, height, max });
+        }
+        if (width, height) != (self.settings.width, self.settings.height) {
+            self.settings.width = width;
+            self.settings.height = height;
+            self.targets = Targets::new(
+                &self.device,
+                width,
+                height,
+                self.settings.msaa,
+                self.particles,
+            );
+            self.write_globals();
+        }
+        Ok(())
+    }
+
+    /// Recomputes the camera's matrix and writes the uniforms.
+    fn write_globals(&mut self) {
+        let aspect = self.settings.width as f32 / self.settings.height as f32;
+        self.view_proj = self.camera.view_proj(aspect, self.radius);
+        let globals = Self::globals(
+            &self.settings,
+            &self.camera,
+            [self.view_proj, self.light_view_proj],
+            self.strain_range,
+            self.is_paper,
+        );
+        self.queue
+            .write_buffer(&self.globals, 0, bytemuck::bytes_of(&globals));
+    }
+
+    /// The buffer that holds `positions`, after checking it fits the model.
+    fn positions_buffer(&self, positions: Positions<'_>) -> Result<wgpu::Buffer, RenderError> {
+        Ok(match positions {
+            Positions::Cpu(x) => {
+                if x.len() != self.particles {
+                    return Err(RenderError::ParticleCount {
+                        got: x.len(),
+                        expected: self.particles,
+                    });
+                }
+                if !x.is_empty() {
+                    self.queue.write_buffer(
+                        &self.own_positions,
+                        0,
+                        bytemuck::cast_slice(&vec4s(x)),
+                    );
+                }
+                self.own_positions.clone()
+            }
+            Positions::Gpu(buffer) => {
+                if !buffer.usage().contains(wgpu::BufferUsages::STORAGE) {
+                    return Err(RenderError::Setting(
+                        "the position buffer needs BufferUsages::STORAGE".into(),
+                    ));
+                }
+                let held = (buffer.size() / 16) as usize;
+                if held < self.particles {
+                    return Err(RenderError::ParticleCount {
+                        got: held,
+                        expected: self.particles,
+                    });
+                }
+                buffer.clone()
+            }
+        })
     }
 
     /// Writes the ground, the colliders and the pins, placed at the world's time.

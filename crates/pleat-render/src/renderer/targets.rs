@@ -76,7 +76,7 @@ impl Targets {
                 height,
                 1,
                 COLOR_FORMAT,
-                attachment | wgpu::TextureUsages::COPY_SRC,
+                attachment | wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::TEXTURE_BINDING,
             ),
             readback: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("picture readback"),

@@ -3,14 +3,14 @@
 
 use super::{
     BodySpec, ClothSpec, ColliderSpec, Corner, MeshSpec, MotionSpec, PatternMeshSpec, PinSpec,
-    Scene, SceneError, SceneErrors, ShapeSpec, Side,
+    Scene, SceneError, SceneErrors, SceneFiles, ShapeSpec, Side,
 };
 use crate::collide::rigid_body::{mesh_samples, sample_points};
 use crate::collide::{Collider, MassProperties, MeshCollider, Motion, RigidBody, SdfGrid, Shape};
-use crate::mesh::{obj::load_obj, GridSpec, Mesh};
+use crate::mesh::{obj::parse_obj, GridSpec, Mesh};
 use crate::metrics::intersections::count_self_intersections;
 use crate::model::{Model, Pin};
-use crate::origami::{builtin, load_pattern, PatternError, Sheet, SheetOptions};
+use crate::origami::{builtin, parse_pattern, PatternError, Sheet, SheetOptions};
 use crate::simulation::Simulation;
 use crate::world::World;
 use glam::{EulerRot, Quat, Vec3};
@@ -21,7 +21,17 @@ impl Scene {
     /// The simulation this scene describes; OBJ paths are relative to `base_dir`,
     /// and `file` names the scene in errors.
     pub fn build(&self, base_dir: &Path, file: &str) -> Result<Simulation, SceneErrors> {
-        let (model, world) = self.model(base_dir, file)?;
+        self.build_with(&super::Folder(base_dir), file)
+    }
+
+    /// As [`Scene::build`], with the scene's meshes and patterns read from
+    /// `files` (in memory, for the app and the web).
+    pub fn build_with(
+        &self,
+        files: &dyn SceneFiles,
+        file: &str,
+    ) -> Result<Simulation, SceneErrors> {
+        let (model, world) = self.model_with(files, file)?;
         let folds = model.cloths.iter().any(|c| c.paper.is_some());
         let mut sim = Simulation::new(model, world, self.solver);
         if folds {
@@ -32,6 +42,15 @@ impl Scene {
 
     /// The model and world of this scene, without building a solver.
     pub fn model(&self, base_dir: &Path, file: &str) -> Result<(Model, World), SceneErrors> {
+        self.model_with(&super::Folder(base_dir), file)
+    }
+
+    /// As [`Scene::model`], with the scene's files read from `files`.
+    pub fn model_with(
+        &self,
+        files: &dyn SceneFiles,
+        file: &str,
+    ) -> Result<(Model, World), SceneErrors> {
         let mut model = Model::default();
         let mut errors = Vec::new();
         for (i, cloth) in self.cloths.iter().enumerate() {
@@ -40,7 +59,7 @@ impl Scene {
             } else {
                 cloth.name.clone()
             };
-            if let Err((sub, reason)) = add_cloth(&mut model, &name, cloth, base_dir) {
+            if let Err((sub, reason)) = add_cloth(&mut model, &name, cloth, files) {
                 errors.push(SceneError {
                     file: file.into(),
                     path: format!("cloths[{i}].{sub}"),
@@ -50,7 +69,7 @@ impl Scene {
         }
         let mut colliders = Vec::with_capacity(self.colliders.len());
         for (i, spec) in self.colliders.iter().enumerate() {
-            match collider(spec, base_dir) {
+            match collider(spec, files) {
                 Ok(c) => colliders.push(c),
                 Err((sub, reason)) => errors.push(SceneError {
                     file: file.into(),
@@ -103,11 +122,11 @@ fn add_cloth(
     model: &mut Model,
     name: &str,
     cloth: &ClothSpec,
-    base_dir: &Path,
+    files: &dyn SceneFiles,
 ) -> Result<(), ClothError> {
     let (mesh, grid) = match &cloth.mesh {
         MeshSpec::Pattern(spec) => {
-            let sheet = pattern_sheet(spec, base_dir)
+            let sheet = pattern_sheet(spec, files)
                 .map_err(|e| ("mesh.pattern".to_string(), e.to_string()))?;
             model.add_paper(name, &sheet, cloth.material, spec.stiffness);
             return Ok(());
@@ -124,8 +143,8 @@ fn add_cloth(
             (spec.build(), Some(spec))
         }
         MeshSpec::Obj(o) => {
-            let mut mesh = load_obj(&base_dir.join(&o.path))
-                .map_err(|e| ("mesh.obj.path".to_string(), e.to_string()))?;
+            let mut mesh =
+                read_obj(files, &o.path).map_err(|reason| ("mesh.obj.path".to_string(), reason))?;
             for p in &mut mesh.positions {
                 *p = *p * o.scale + o.translate;
             }
@@ -139,9 +158,15 @@ fn add_cloth(
 }
 
 /// The sheet of a pattern cloth, placed at its centre.
-fn pattern_sheet(spec: &PatternMeshSpec, base_dir: &Path) -> Result<Sheet, PatternError> {
+fn pattern_sheet(spec: &PatternMeshSpec, files: &dyn SceneFiles) -> Result<Sheet, PatternError> {
     let pattern = match (&spec.path, &spec.builtin) {
-        (Some(path), _) => load_pattern(base_dir.join(path))?,
+        (Some(path), _) => {
+            let name = files.display(path);
+            let bytes = files
+                .read(path)
+                .map_err(|reason| PatternError::new("", reason).with_file(name.clone()))?;
+            parse_pattern(&name, &bytes)?.0
+        }
         (None, Some(name)) => builtin(name)
             .ok_or_else(|| PatternError::new("builtin", format!("unknown pattern '{name}'")))?,
         (None, None) => return Err(PatternError::new("", "give either path or builtin")),
@@ -246,7 +271,7 @@ fn motion(spec: &MotionSpec, default_pivot: Vec3) -> Motion {
 /// An error inside a collider: the path below `colliders[i]` and the reason.
 type ColliderError = (String, String);
 
-fn collider(spec: &ColliderSpec, base_dir: &Path) -> Result<Collider, ColliderError> {
+fn collider(spec: &ColliderSpec, files: &dyn SceneFiles) -> Result<Collider, ColliderError> {
     // Distance fields and generated shapes of a dynamic collider are weighed
     // and sampled through their meshes.
     let mut baked_from = None;
@@ -281,13 +306,13 @@ fn collider(spec: &ColliderSpec, base_dir: &Path) -> Result<Collider, ColliderEr
         }
         ShapeSpec::Capsule { a, b, radius } => (Shape::Capsule { a, b, radius }, (a + b) / 2.0),
         ShapeSpec::Mesh(m) => {
-            let mesh = placed_mesh(base_dir, &m.path, m.scale, m.translate)
+            let mesh = placed_mesh(files, &m.path, m.scale, m.translate)
                 .map_err(|reason| ("shape.mesh.path".to_string(), reason))?;
             let centre = mesh_centre(&mesh);
             (Shape::Mesh(Arc::new(mesh)), centre)
         }
         ShapeSpec::Sdf(s) => {
-            let mesh = placed_mesh(base_dir, &s.path, s.scale, s.translate)
+            let mesh = placed_mesh(files, &s.path, s.scale, s.translate)
                 .map_err(|reason| ("shape.sdf.path".to_string(), reason))?;
             let grid = SdfGrid::bake(&mesh, s.cell_size)
                 .map_err(|reason| ("shape.sdf.cell_size".to_string(), reason))?;
@@ -366,15 +391,25 @@ fn dynamic_body(
     Ok(body)
 }
 
-/// A collider mesh loaded from `path` (relative to `base_dir`) and placed at
-/// `position * scale + translate`.
+/// The OBJ mesh at `path` among the scene's `files`.
+fn read_obj(files: &dyn SceneFiles, path: &str) -> Result<Mesh, String> {
+    let name = files.display(path);
+    let bytes = files
+        .read(path)
+        .map_err(|reason| format!("{name}: {reason}"))?;
+    let text = String::from_utf8(bytes).map_err(|_| format!("{name}: not UTF-8 text"))?;
+    parse_obj(&text, &name).map_err(|e| e.to_string())
+}
+
+/// A collider mesh read from `path` among the scene's `files` and placed
+/// at `position * scale + translate`.
 fn placed_mesh(
-    base_dir: &Path,
+    files: &dyn SceneFiles,
     path: &str,
     scale: f32,
     translate: Vec3,
 ) -> Result<MeshCollider, String> {
-    let mut mesh = load_obj(&base_dir.join(path)).map_err(|e| e.to_string())?;
+    let mut mesh = read_obj(files, path)?;
     for p in &mut mesh.positions {
         *p = *p * scale + translate;
     }

@@ -7,11 +7,13 @@
 
 mod build;
 mod error;
+mod files;
 pub mod presets;
 mod spec;
 mod validate;
 
 pub use error::{SceneError, SceneErrors};
+pub use files::{Folder, InMemory, SceneFiles};
 pub use spec::*;
 
 use std::path::Path;

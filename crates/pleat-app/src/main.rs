@@ -1,0 +1,185 @@
+//! The native app: `pleat-app [FILES] [--demo ID] [--backend cpu|gpu]`, and
+//! for tests `--frames N --screenshot out.png` (a picture of the window
+//! after N frames, then exit, printing the app's state as JSON).
+
+#[cfg(not(target_arch = "wasm32"))]
+fn main() -> std::process::ExitCode {
+    native::main()
+}
+
+#[cfg(target_arch = "wasm32")]
+fn main() {}
+
+#[cfg(not(target_arch = "wasm32"))]
+mod native {
+    use clap::Parser;
+    use eframe::egui;
+    use pleat_app::{BackendChoice, Options, PleatApp};
+    use std::path::PathBuf;
+    use std::process::ExitCode;
+    use std::sync::{Arc, Mutex};
+
+    #[derive(Parser)]
+    #[command(name = "pleat-app", about = "Cloth and origami, live.")]
+    struct Args {
+        /// Files to open, as if dropped on the window: a scene (.json) with
+        /// the meshes and patterns it names, an OBJ or a crease pattern.
+        files: Vec<PathBuf>,
+        /// Demo to open: rigid, fold, sdf, wind, self or drape.
+        #[arg(long, default_value = "rigid")]
+        demo: String,
+        /// cpu or gpu.
+        #[arg(long, default_value = "gpu")]
+        backend: String,
+        /// Parameters to set, as NAME=VALUE (e.g. gravity=-3).
+        #[arg(long = "set")]
+        set: Vec<String>,
+        /// Frames to run before the screenshot.
+        #[arg(long, default_value_t = 60)]
+        frames: u64,
+        /// Writes a PNG of the window after --frames frames and exits.
+        #[arg(long)]
+        screenshot: Option<PathBuf>,
+        /// Window size in points.
+        #[arg(long, value_parser = parse_size, default_value = "1280x800")]
+        size: [f32; 2],
+    }
+
+    fn parse_size(s: &str) -> Result<[f32; 2], String> {
+        let (w, h) = s.split_once('x').ok_or("give WIDTHxHEIGHT")?;
+        Ok([
+            w.parse().map_err(|e| format!("{e}"))?,
+            h.parse().map_err(|e| format!("{e}"))?,
+        ])
+    }
+
+    fn options(args: &Args) -> Result<Options, String> {
+        let backend = match args.backend.as_str() {
+            "cpu" => BackendChoice::Cpu,
+            "gpu" => BackendChoice::Gpu,
+            other => return Err(format!("--backend: expected cpu or gpu, got '{other}'")),
+        };
+        let mut files = Vec::new();
+        for path in &args.files {
+            let bytes =
+                std::fs::read(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+            let name = path
+                .file_name()
+                .map_or(String::new(), |n| n.to_string_lossy().into_owned());
+            files.push((name, bytes));
+        }
+        let mut set = Vec::new();
+        for s in &args.set {
+            let (name, value) = s
+                .split_once('=')
+                .ok_or(format!("--set {s}: give NAME=VALUE"))?;
+            let value = value
+                .parse()
+                .map_err(|_| format!("--set {s}: '{value}' is not a number"))?;
+            set.push((name.to_string(), value));
+        }
+        Ok(Options {
+            demo: args.demo.clone(),
+            files,
+            backend,
+            set,
+        })
+    }
+
+    /// The app, and the screenshot it takes after a number of frames.
+    struct Shooter {
+        app: PleatApp,
+        frames: u64,
+        path: PathBuf,
+        requested: bool,
+        result: Arc<Mutex<Option<Result<(), String>>>>,
+        state: Arc<Mutex<String>>,
+    }
+
+    impl eframe::App for Shooter {
+        fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
+            self.app.ui(ui, frame);
+            *self.state.lock().expect("state") = self.app.probe.to_json();
+            let ctx = ui.ctx().clone();
+            if self.result.lock().expect("result").is_some() {
+                ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+            } else if !self.requested && self.app.probe.frame >= self.frames {
+                self.requested = true;
+                let (path, result) = (self.path.clone(), self.result.clone());
+                let repaint = ctx.clone();
+                ctx.request_screenshot(move |image| {
+                    *result.lock().expect("result") = Some(save(&path, &image));
+                    repaint.request_repaint();
+                });
+            }
+        }
+    }
+
+    fn save(path: &PathBuf, image: &egui::ColorImage) -> Result<(), String> {
+        let [w, h] = image.size;
+        let bytes: Vec<u8> = image.pixels.iter().flat_map(|c| c.to_array()).collect();
+        image::RgbaImage::from_raw(w as u32, h as u32, bytes)
+            .ok_or("bad screenshot size")?
+            .save(path)
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))
+    }
+
+    pub fn main() -> ExitCode {
+        let args = Args::parse();
+        let options = match options(&args) {
+            Ok(o) => o,
+            Err(e) => {
+                eprintln!("error: {e}");
+                return ExitCode::from(2);
+            }
+        };
+        let native = eframe::NativeOptions {
+            viewport: egui::ViewportBuilder::default()
+                .with_inner_size(args.size)
+                .with_title("pleat"),
+            wgpu_options: pleat_app::wgpu_options(),
+            ..Default::default()
+        };
+        let result = Arc::new(Mutex::new(None));
+        let state = Arc::new(Mutex::new(String::new()));
+        let (screenshot, frames) = (args.screenshot.clone(), args.frames);
+        let (shot_result, shot_state) = (result.clone(), state.clone());
+        let run = eframe::run_native(
+            "pleat",
+            native,
+            Box::new(move |cc| {
+                let app = PleatApp::new(cc, options);
+                Ok(match screenshot {
+                    Some(path) => Box::new(Shooter {
+                        app,
+                        frames,
+                        path,
+                        requested: false,
+                        result: shot_result,
+                        state: shot_state,
+                    }),
+                    None => Box::new(app),
+                })
+            }),
+        );
+        if let Err(e) = run {
+            eprintln!("error: the window could not open: {e}");
+            return ExitCode::from(2);
+        }
+        if args.screenshot.is_some() {
+            println!("{}", state.lock().expect("state"));
+            return match result.lock().expect("result").take() {
+                Some(Ok(())) => ExitCode::SUCCESS,
+                Some(Err(e)) => {
+                    eprintln!("error: {e}");
+                    ExitCode::FAILURE
+                }
+                None => {
+                    eprintln!("error: the window closed before the screenshot");
+                    ExitCode::FAILURE
+                }
+            };
+        }
+        ExitCode::SUCCESS
+    }
+}

@@ -1,0 +1,216 @@
+//! The side panel: demo and pattern menus, play / pause / step / reset,
+//! backend, view, every parameter of [`crate::params`], timings, the live
+//! plot and export.
+
+use crate::app::{Command, PleatApp};
+use crate::demos::{pattern_choices, DEMOS};
+use crate::params::{Section, PARAMS};
+use crate::session::{BackendChoice, Pending};
+use eframe::egui;
+use pleat::solver::SolverKind;
+use pleat_render::View;
+
+/// Draws the panel's contents; changes the app or queues commands.
+pub fn show(ui: &mut egui::Ui, app: &mut PleatApp) {
+    egui::ScrollArea::vertical().show(ui, |ui| {
+        ui.heading("pleat");
+        scene_menus(ui, app);
+        ui.separator();
+        transport(ui, app);
+        ui.separator();
+        backend_and_view(ui, app);
+        for (section, title) in [
+            (Section::Solver, "Solver"),
+            (Section::Material, "Material"),
+            (Section::Paper, "Paper"),
+            (Section::Contact, "Contact"),
+            (Section::Forces, "Gravity and wind"),
+            (Section::Fold, "Fold"),
+        ] {
+            parameters(ui, app, section, title);
+        }
+        ui.separator();
+        statistics(ui, app);
+        ui.separator();
+        ui.horizontal(|ui| {
+            if ui.button("Export OBJ").clicked() {
+                app.commands.push(Command::Export("obj"));
+            }
+            if ui.button("Export glb").clicked() {
+                app.commands.push(Command::Export("glb"));
+            }
+        });
+        ui.small("Drop a scene (.json), a mesh (.obj) or a crease pattern (.cp, .fold, .svg) on the window.");
+    });
+}
+
+fn scene_menus(ui: &mut egui::Ui, app: &mut PleatApp) {
+    let current = app.demo.map_or("(dropped file)", |d| d.title);
+    egui::ComboBox::from_label("demo")
+        .selected_text(current)
+        .width(220.0)
+        .show_ui(ui, |ui| {
+            for demo in DEMOS {
+                if ui
+                    .selectable_label(app.demo == Some(demo), demo.title)
+                    .clicked()
+                {
+                    app.commands.push(Command::Demo(demo.id.to_string()));
+                }
+            }
+        });
+    if app.demo.is_some_and(|d| d.id == "fold") {
+        let label = app
+            .pattern
+            .map_or("(scene's own)".to_string(), |p| p.label());
+        egui::ComboBox::from_label("pattern")
+            .selected_text(label)
+            .width(220.0)
+            .show_ui(ui, |ui| {
+                for choice in pattern_choices() {
+                    if ui
+                        .selectable_label(app.pattern == Some(choice), choice.label())
+                        .clicked()
+                    {
+                        app.commands.push(Command::Pattern(choice));
+                    }
+                }
+            });
+    }
+    if let Some(session) = &app.session {
+        ui.label(format!("scene: {}", session.scene.name));
+    }
+}
+
+fn transport(ui: &mut egui::Ui, app: &mut PleatApp) {
+    ui.horizontal(|ui| {
+        let label = if app.playing { "Pause" } else { "Play" };
+        if ui.button(label).clicked() {
+            app.playing = !app.playing;
+        }
+        if ui.button("Step").clicked() {
+            app.commands.push(Command::Step);
+        }
+        if ui.button("Reset").clicked() {
+            app.commands.push(Command::Reset);
+        }
+    });
+}
+
+fn backend_and_view(ui: &mut egui::Ui, app: &mut PleatApp) {
+    let Some(session) = &mut app.session else {
+        return;
+    };
+    ui.horizontal(|ui| {
+        ui.label("backend");
+        for (choice, name) in [(BackendChoice::Cpu, "CPU"), (BackendChoice::Gpu, "GPU")] {
+            if ui
+                .selectable_label(session.backend == choice, name)
+                .clicked()
+                && session.backend != choice
+            {
+                session.request(Pending::Backend(choice));
+            }
+        }
+    });
+    ui.label(format!("device: {}", session.sim.device()));
+    if let Some(notice) = &session.notice {
+        ui.colored_label(egui::Color32::from_rgb(230, 180, 60), notice);
+    }
+    let kind = session.sim.settings.kind;
+    egui::ComboBox::from_label("solver")
+        .selected_text(kind.name())
+        .show_ui(ui, |ui| {
+            for k in SolverKind::ALL {
+                if ui.selectable_label(kind == k, k.name()).clicked() && kind != k {
+                    session.scene.solver.kind = k;
+                    session.sim.settings.kind = k;
+                    session.request(Pending::Rebuild);
+                }
+            }
+        });
+    let mut self_collision = session.scene.solver.self_collision.enabled;
+    if ui.checkbox(&mut self_collision, "self-collision").changed() {
+        session.scene.solver.self_collision.enabled = self_collision;
+        session.request(Pending::Rebuild);
+    }
+    egui::ComboBox::from_label("view")
+        .selected_text(app.viewport.view.to_string())
+        .show_ui(ui, |ui| {
+            for (name, view) in View::ALL {
+                ui.selectable_value(&mut app.viewport.view, view, name);
+            }
+        });
+}
+
+fn parameters(ui: &mut egui::Ui, app: &mut PleatApp, section: Section, title: &str) {
+    let Some(session) = &mut app.session else {
+        return;
+    };
+    let shown: Vec<_> = PARAMS
+        .iter()
+        .filter(|p| p.section == section)
+        .filter_map(|p| (p.get)(session).map(|v| (p, v)))
+        .collect();
+    if shown.is_empty() {
+        return;
+    }
+    egui::CollapsingHeader::new(title)
+        .default_open(true)
+        .show(ui, |ui| {
+            for (param, value) in shown {
+                let mut edited = value;
+                let slider = egui::Slider::new(&mut edited, param.min..=param.max)
+                    .logarithmic(param.logarithmic)
+                    .text(param.label);
+                let slider = if param.integer {
+                    slider.integer()
+                } else {
+                    slider.custom_formatter(|v, _| format_value(v))
+                };
+                if ui.add(slider).changed() && edited != value {
+                    param.apply(session, edited);
+                }
+            }
+        });
+}
+
+/// Short numbers for values that span decades (1e-6, 0.25, 120).
+fn format_value(v: f64) -> String {
+    if v != 0.0 && (v.abs() < 1e-2 || v.abs() >= 1e4) {
+        format!("{v:.2e}")
+    } else {
+        format!("{v:.3}")
+    }
+}
+
+fn statistics(ui: &mut egui::Ui, app: &mut PleatApp) {
+    ui.label(format!(
+        "{:.0} fps, frame {}",
+        app.probe.fps, app.probe.frame
+    ));
+    let Some(session) = &app.session else { return };
+    ui.label(format!(
+        "{} particles, {} constraints",
+        session.sim.particles.len(),
+        session.sim.constraint_count()
+    ));
+    if let Some(frames) = app.stage_frames.filter(|&n| n > 0) {
+        let per_frame = |d: std::time::Duration| d.as_secs_f64() * 1e3 / frames as f64;
+        let st = &app.stage_window;
+        egui::Grid::new("stages").show(ui, |ui| {
+            for (name, time) in [
+                ("forces", st.forces),
+                ("predict", st.predict),
+                ("constraints", st.constraints),
+                ("collisions", st.collisions),
+                ("self-collision", st.self_collision),
+            ] {
+                ui.label(name);
+                ui.label(format!("{:.2} ms", per_frame(time)));
+                ui.end_row();
+            }
+        });
+    }
+    app.history.show(ui);
+}

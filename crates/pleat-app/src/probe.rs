@@ -1,0 +1,67 @@
+//! What the app tells tests about itself: frame count, frames per second,
+//! particle count, max stretch, energy, the cloth's centroid, whether the
+//! mouse holds the cloth, and the last error. The page publishes it as
+//! `window.pleatState` (JSON text); the native app prints it on exit.
+
+use crate::session::Session;
+use serde::Serialize;
+
+/// Weight of the newest frame in the frame-rate average.
+const FPS_SMOOTHING: f32 = 0.05;
+
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Probe {
+    /// The demo's id, or the opened file's name.
+    pub demo: String,
+    /// Simulation frames stepped since the scene opened.
+    pub frame: u64,
+    /// App frames per second (smoothed).
+    pub fps: f32,
+    pub particles: usize,
+    /// Largest edge length over its rest length.
+    pub max_stretch: f32,
+    /// Kinetic energy (J).
+    pub energy: f32,
+    /// Mean particle position (m).
+    pub centroid: [f32; 3],
+    /// `"cpu"` or `"gpu"`, and the device.
+    pub backend: String,
+    pub device: String,
+    pub unstable: bool,
+    /// Whether the mouse holds a particle.
+    pub grabbing: bool,
+    pub last_error: Option<String>,
+}
+
+impl Probe {
+    /// Counts one app frame that took `dt` seconds.
+    pub fn tick(&mut self, dt: f32) {
+        if dt > 0.0 {
+            let fps = 1.0 / dt;
+            self.fps = if self.fps == 0.0 {
+                fps
+            } else {
+                self.fps + (fps - self.fps) * FPS_SMOOTHING
+            };
+        }
+    }
+
+    /// Reads the session's state as last synced.
+    pub fn observe(&mut self, session: &Session) {
+        let sim = &session.sim;
+        let x = &sim.particles.x;
+        self.particles = x.len();
+        self.max_stretch = pleat::metrics::stretch(&sim.model, &sim.particles).0;
+        self.energy = sim.particles.kinetic_energy();
+        let sum = x.iter().fold(glam::Vec3::ZERO, |a, p| a + *p);
+        self.centroid = (sum / x.len().max(1) as f32).to_array();
+        self.backend = sim.backend_name().to_string();
+        self.device = sim.device();
+        self.unstable = sim.stability.is_unstable();
+    }
+
+    /// The probe as JSON text.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string(self).unwrap_or_default()
+    }
+}
