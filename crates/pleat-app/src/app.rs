@@ -301,6 +301,7 @@ impl eframe::App for PleatApp {
             }
         });
         self.probe.grabbing = self.viewport.is_grabbing();
+        self.probe.cloth_point = self.viewport.cloth_point;
         crate::platform::publish(&self.probe);
         ctx.request_repaint();
     }

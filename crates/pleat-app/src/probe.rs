@@ -30,6 +30,8 @@ pub struct Probe {
     pub unstable: bool,
     /// Whether the mouse holds a particle.
     pub grabbing: bool,
+    /// Where (CSS pixels, window points natively) a point of the cloth is drawn.
+    pub cloth_point: Option<[f32; 2]>,
     pub last_error: Option<String>,
 }
 

@@ -26,6 +26,9 @@ pub struct Viewport {
     orbit: Option<Orbit>,
     /// The grabbed particle and its depth along the view direction.
     grabbed: Option<(u32, f32)>,
+    /// Where (window points) the particle nearest the cloth's centroid is
+    /// drawn: a place a test can grab.
+    pub cloth_point: Option<[f32; 2]>,
 }
 
 impl Viewport {
@@ -37,6 +40,7 @@ impl Viewport {
             view: View::Shaded,
             orbit: None,
             grabbed: None,
+            cloth_point: None,
         }
     }
 
@@ -88,6 +92,9 @@ impl Viewport {
             ui.painter().image(texture, rect, uv, egui::Color32::WHITE);
         }
         crate::legend::draw(ui, rect, self.view, renderer, session);
+        self.cloth_point = central_particle(&session.sim.particles.x)
+            .and_then(|p| renderer.project(p))
+            .map(|px| [rect.min.x + px.x / ppp, rect.min.y + px.y / ppp]);
         Ok(())
     }
 
@@ -224,6 +231,15 @@ fn grab(
         _ => session.sim.grab(None),
     }
     grabbed
+}
+
+/// The particle nearest the centroid of `x`.
+fn central_particle(x: &[Vec3]) -> Option<Vec3> {
+    let centroid = x.iter().copied().sum::<Vec3>() / x.len().max(1) as f32;
+    x.iter().copied().min_by(|a, b| {
+        a.distance_squared(centroid)
+            .total_cmp(&b.distance_squared(centroid))
+    })
 }
 
 /// The particle drawn nearest to `cursor` (picture pixels) within

@@ -1,0 +1,80 @@
+//! The native app in a real window: under Xvfb (an X server without a
+//! screen) with Mesa's lavapipe as the Vulkan adapter, it runs a demo for a
+//! few frames on the GPU backend and writes a screenshot that shows the
+//! panels and the cloth. CI installs xvfb; without it this test fails.
+
+use std::path::Path;
+use std::process::Command;
+
+const APP: &str = env!("CARGO_BIN_EXE_pleat-app");
+
+fn run_in_xvfb(args: &[&str]) -> std::process::Output {
+    Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1280x800x24", APP])
+        .args(args)
+        .output()
+        .expect("xvfb-run (Debian package xvfb) runs the app")
+}
+
+#[test]
+fn the_window_runs_a_demo_and_takes_a_screenshot() {
+    let dir = std::env::temp_dir().join(format!("pleat-app-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("fold.png");
+    let out = run_in_xvfb(&[
+        "--demo",
+        "fold",
+        "--frames",
+        "15",
+        "--size",
+        "960x600",
+        "--screenshot",
+        png.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let state: serde_json::Value = serde_json::from_slice(&out.stdout).expect("the state as JSON");
+    assert!(state["frame"].as_u64().unwrap() >= 15, "{state}");
+    assert_eq!(state["backend"], "gpu", "{state}");
+    assert!(state["last_error"].is_null(), "{state}");
+    assert!(state["particles"].as_u64().unwrap() > 10, "{state}");
+    let picture = image::open(&png).unwrap().to_rgba8();
+    assert_eq!(picture.dimensions(), (960, 600));
+    assert_shows_something(&picture, &png);
+}
+
+/// Many colours and a spread of brightness: not a blank or one-colour window.
+fn assert_shows_something(picture: &image::RgbaImage, path: &Path) {
+    let mut colours = std::collections::HashSet::new();
+    let (mut sum, mut sum2, mut n) = (0.0f64, 0.0f64, 0.0f64);
+    for p in picture.pixels().step_by(7) {
+        colours.insert([p[0], p[1], p[2]]);
+        let v = p[0] as f64 + p[1] as f64 + p[2] as f64;
+        sum += v;
+        sum2 += v * v;
+        n += 1.0;
+    }
+    let deviation = (sum2 / n - (sum / n).powi(2)).sqrt();
+    assert!(
+        colours.len() > 50 && deviation > 10.0,
+        "{}: {} colours, deviation {deviation}",
+        path.display(),
+        colours.len()
+    );
+}
+
+#[test]
+fn bad_arguments_exit_2_with_the_reason() {
+    let out = Command::new(APP)
+        .args(["--backend", "quantum"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--backend: expected cpu or gpu"));
+    let out = Command::new(APP)
+        .args(["--set", "gravity"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("NAME=VALUE"));
+}

@@ -1,0 +1,216 @@
+//! Project tasks that need more than cargo:
+//!
+//! - `cargo xtask web [--release] [--out DIR] [--port N]`: builds the app for
+//!   the browser (WebAssembly + WebGPU) with wasm-bindgen-cli pinned to the
+//!   wasm-bindgen crate's exact version (installed with `cargo install`, into
+//!   the target folder), writes a folder of static files, and serves it on
+//!   localhost (not with `--release`, which only writes the folder to deploy).
+//! - `cargo xtask test`: the Rust tests, then the web build and the browser
+//!   test (tests/web, headless Chromium with WebGPU through playwright-core).
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, ExitCode};
+
+mod serve;
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let result = match args.first().map(String::as_str) {
+        Some("web") => web(&args[1..]),
+        Some("test") => test(),
+        _ => Err(USAGE.to_string()),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+const USAGE: &str = "usage: cargo xtask web [--release] [--out DIR] [--port N] | cargo xtask test";
+
+/// Options of `cargo xtask web`.
+struct WebOptions {
+    release: bool,
+    out: Option<PathBuf>,
+    port: u16,
+}
+
+fn parse_web(args: &[String]) -> Result<WebOptions, String> {
+    let mut options = WebOptions {
+        release: false,
+        out: None,
+        port: 8080,
+    };
+    let mut args = args.iter();
+    while let Some(arg) = args.next() {
+        match arg.as_str() {
+            "--release" => options.release = true,
+            "--out" => options.out = Some(args.next().ok_or("--out needs a folder")?.into()),
+            "--port" => {
+                let port = args.next().ok_or("--port needs a number")?;
+                options.port = port
+                    .parse()
+                    .map_err(|_| format!("--port: '{port}' is not a port"))?;
+            }
+            other => return Err(format!("unknown argument '{other}'\n{USAGE}")),
+        }
+    }
+    Ok(options)
+}
+
+fn web(args: &[String]) -> Result<(), String> {
+    let options = parse_web(args)?;
+    let dist = build_web(options.release, options.out)?;
+    if options.release {
+        println!(
+            "the app is in {}: serve that folder over http(s)",
+            dist.display()
+        );
+        Ok(())
+    } else {
+        serve::serve(&dist, options.port)
+    }
+}
+
+/// Builds the wasm app and writes the page into `out` (default:
+/// target/web); returns the folder.
+fn build_web(release: bool, out: Option<PathBuf>) -> Result<PathBuf, String> {
+    let root = workspace_root()?;
+    let target = target_dir(&root)?;
+    run(Command::new("rustup").args(["target", "add", "wasm32-unknown-unknown"]))?;
+    let bindgen = wasm_bindgen_cli(&root, &target)?;
+    let mut build = cargo();
+    build.args([
+        "build",
+        "--locked",
+        "-p",
+        "pleat-app",
+        "--lib",
+        "--target",
+        "wasm32-unknown-unknown",
+    ]);
+    if release {
+        build.arg("--release");
+    }
+    run(build.current_dir(&root))?;
+    let profile = if release { "release" } else { "debug" };
+    let wasm = target
+        .join("wasm32-unknown-unknown")
+        .join(profile)
+        .join("pleat_app.wasm");
+    let dist = out.unwrap_or_else(|| target.join("web"));
+    std::fs::create_dir_all(&dist).map_err(|e| format!("{}: {e}", dist.display()))?;
+    run(Command::new(&bindgen)
+        .args([
+            "--target",
+            "web",
+            "--no-typescript",
+            "--out-name",
+            "pleat_app",
+            "--out-dir",
+        ])
+        .arg(&dist)
+        .arg(&wasm))?;
+    let page = root.join("crates/pleat-app/web/index.html");
+    std::fs::copy(&page, dist.join("index.html"))
+        .map_err(|e| format!("{}: {e}", page.display()))?;
+    Ok(dist)
+}
+
+/// wasm-bindgen-cli at the exact version of the wasm-bindgen crate in
+/// Cargo.lock (the two must match), installed under the target folder.
+fn wasm_bindgen_cli(root: &Path, target: &Path) -> Result<PathBuf, String> {
+    let version = locked_version(root, "wasm-bindgen")?;
+    let tools = target.join("tools");
+    let binary = tools.join("bin").join("wasm-bindgen");
+    let installed = Command::new(&binary)
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| String::from_utf8_lossy(&o.stdout).contains(&version));
+    if !installed {
+        eprintln!("installing wasm-bindgen-cli {version} (once)");
+        run(cargo()
+            .args(["install", "wasm-bindgen-cli", "--version"])
+            .arg(format!("={version}"))
+            .arg("--root")
+            .arg(&tools))?;
+    }
+    Ok(binary)
+}
+
+/// The version Cargo.lock pins for the package `name`.
+fn locked_version(root: &Path, name: &str) -> Result<String, String> {
+    let lock =
+        std::fs::read_to_string(root.join("Cargo.lock")).map_err(|e| format!("Cargo.lock: {e}"))?;
+    let mut lines = lock.lines();
+    while let Some(line) = lines.next() {
+        if line.trim() == format!("name = \"{name}\"") {
+            let version = lines.next().unwrap_or_default();
+            return version
+                .trim()
+                .strip_prefix("version = \"")
+                .and_then(|v| v.strip_suffix('"'))
+                .map(str::to_string)
+                .ok_or_else(|| format!("Cargo.lock: no version after {name}"));
+        }
+    }
+    Err(format!("Cargo.lock has no package {name}"))
+}
+
+fn test() -> Result<(), String> {
+    let root = workspace_root()?;
+    run(cargo()
+        .args(["test", "--workspace", "--locked"])
+        .current_dir(&root))?;
+    let dist = build_web(true, None)?;
+    let tests = root.join("tests/web");
+    if !tests.join("node_modules").exists() {
+        run(Command::new("npm")
+            .args(["ci", "--no-audit", "--no-fund"])
+            .current_dir(&tests))?;
+    }
+    run(Command::new("node")
+        .arg("app.test.mjs")
+        .arg(&dist)
+        .current_dir(&tests))
+}
+
+fn cargo() -> Command {
+    Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()))
+}
+
+fn workspace_root() -> Result<PathBuf, String> {
+    let manifest = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    manifest
+        .ancestors()
+        .nth(2)
+        .map(Path::to_path_buf)
+        .ok_or_else(|| "cannot find the workspace".to_string())
+}
+
+/// The target folder cargo uses (CARGO_TARGET_DIR or the workspace's).
+fn target_dir(root: &Path) -> Result<PathBuf, String> {
+    let output = cargo()
+        .args(["metadata", "--format-version", "1", "--no-deps"])
+        .current_dir(root)
+        .output()
+        .map_err(|e| format!("cargo metadata: {e}"))?;
+    let metadata: serde_json::Value =
+        serde_json::from_slice(&output.stdout).map_err(|e| format!("cargo metadata: {e}"))?;
+    metadata["target_directory"]
+        .as_str()
+        .map(PathBuf::from)
+        .ok_or_else(|| "cargo metadata: no target_directory".into())
+}
+
+fn run(command: &mut Command) -> Result<(), String> {
+    let status = command.status().map_err(|e| format!("{command:?}: {e}"))?;
+    if status.success() {
+        Ok(())
+    } else {
+        Err(format!("{command:?} failed ({status})"))
+    }
+}

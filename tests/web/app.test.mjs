@@ -1,0 +1,204 @@
+// Browser test of the pleat app (issue 14): Debian's Chromium, headless,
+// with WebGPU (SwiftShader where there is no GPU), driven by playwright-core.
+//
+//   node app.test.mjs DIST [SCREENSHOTS]
+//
+// DIST is the folder `cargo xtask web --release` wrote; SCREENSHOTS, when
+// given, receives a PNG of each demo and a frame-rate table (fps.json).
+// The page says how it runs in `window.pleatState` (JSON text) and takes
+// parameters through `window.pleat.set(name, value)`.
+
+import { chromium } from "playwright-core";
+import assert from "node:assert/strict";
+import fs from "node:fs";
+import http from "node:http";
+import path from "node:path";
+
+const DEMOS = ["rigid", "fold", "sdf", "wind", "self", "drape"];
+const TYPES = { ".html": "text/html", ".js": "text/javascript", ".wasm": "application/wasm" };
+const [dist, shots] = process.argv.slice(2);
+if (!dist) {
+  console.error("usage: node app.test.mjs DIST [SCREENSHOTS]");
+  process.exit(2);
+}
+
+function serve(root) {
+  const server = http.createServer((req, res) => {
+    const name = decodeURIComponent(new URL(req.url, "http://x").pathname).replace(/^\/+/, "") || "index.html";
+    const file = path.join(root, name);
+    if (!file.startsWith(path.resolve(root)) || !fs.existsSync(file)) {
+      res.writeHead(404).end();
+      return;
+    }
+    res.writeHead(200, { "Content-Type": TYPES[path.extname(file)] ?? "application/octet-stream" });
+    fs.createReadStream(file).pipe(res);
+  });
+  return new Promise((resolve) => server.listen(0, "127.0.0.1", () => resolve(server)));
+}
+
+async function state(page) {
+  const [text, startError] = await page.evaluate(() => [window.pleatState, window.pleatStartError]);
+  if (startError) throw new Error(`the app did not start: ${startError}`);
+  return text ? JSON.parse(text) : null;
+}
+
+// Waits until `test(state)` holds; fails with the last state after `seconds`.
+async function until(page, what, test, seconds = 120) {
+  const end = Date.now() + seconds * 1000;
+  let last = null;
+  while (Date.now() < end) {
+    last = await state(page);
+    if (last && test(last)) return last;
+    await page.waitForTimeout(250);
+  }
+  throw new Error(`timed out waiting for ${what}; last state: ${JSON.stringify(last)}`);
+}
+
+// Whether a PNG (a buffer) shows a picture: many colours, not one flat fill.
+async function notBlank(page, png) {
+  const stats = await page.evaluate(async (data) => {
+    const image = new Image();
+    image.src = `data:image/png;base64,${data}`;
+    await image.decode();
+    const canvas = new OffscreenCanvas(image.width, image.height);
+    const context = canvas.getContext("2d");
+    context.drawImage(image, 0, 0);
+    const pixels = context.getImageData(0, 0, image.width, image.height).data;
+    const colours = new Set();
+    let sum = 0, sum2 = 0;
+    for (let i = 0; i < pixels.length; i += 4 * 7) {
+      const v = pixels[i] + pixels[i + 1] + pixels[i + 2];
+      colours.add((pixels[i] << 16) | (pixels[i + 1] << 8) | pixels[i + 2]);
+      sum += v; sum2 += v * v;
+    }
+    const n = pixels.length / 28;
+    return { colours: colours.size, deviation: Math.sqrt(sum2 / n - (sum / n) ** 2) };
+  }, png.toString("base64"));
+  return stats.colours > 50 && stats.deviation > 10 ? true : stats;
+}
+
+const server = await serve(dist);
+const base = `http://127.0.0.1:${server.address().port}/`;
+const browser = await chromium.launch({
+  executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium",
+  args: [
+    "--no-sandbox", "--enable-unsafe-webgpu", "--enable-features=Vulkan",
+    "--use-vulkan=swiftshader", "--use-webgpu-adapter=swiftshader", "--use-angle=swiftshader",
+    "--disable-vulkan-surface", "--disable-background-networking", "--disable-component-update",
+    "--disable-sync", "--disable-quic", "--no-first-run",
+  ],
+});
+const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+const logs = [];
+page.on("console", (m) => logs.push(`${m.type()}: ${m.text()}`));
+page.on("pageerror", (e) => logs.push(`pageerror: ${e.message}`));
+
+let failed = false;
+async function check(name, body) {
+  const start = Date.now();
+  try {
+    await body();
+    console.log(`ok   ${name} (${((Date.now() - start) / 1000).toFixed(1)} s)`);
+  } catch (e) {
+    failed = true;
+    console.log(`FAIL ${name}: ${e.message}`);
+  }
+}
+
+const rates = {};
+try {
+  await check("WebGPU has an adapter", async () => {
+    await page.goto(base + "?demo=drape");
+    const adapter = await page.evaluate(async () => {
+      const a = navigator.gpu && (await navigator.gpu.requestAdapter());
+      return a ? (a.info?.description || a.info?.vendor || "an adapter") : null;
+    });
+    assert.ok(adapter, "navigator.gpu.requestAdapter() gave nothing: no WebGPU");
+  });
+
+  for (const demo of DEMOS) {
+    await check(`demo ${demo} loads and its frames advance`, async () => {
+      await page.goto(`${base}?demo=${demo}`);
+      const first = await until(page, `${demo} to start`, (s) => s.frame >= 3 && s.demo === demo);
+      assert.equal(first.last_error, null);
+      assert.ok(first.particles > 10, `particles: ${first.particles}`);
+      assert.equal(first.backend, "gpu", `backend ${first.backend} on ${first.device}`);
+      const later = await until(page, `${demo} to run`, (s) => s.frame >= first.frame + 10);
+      assert.ok(!later.unstable && Number.isFinite(later.max_stretch), JSON.stringify(later));
+      const t0 = Date.now();
+      const timed = await until(page, "frames to time", (s) => s.frame >= later.frame + 10);
+      rates[demo] = { fps: (timed.frame - later.frame) / ((Date.now() - t0) / 1000), particles: timed.particles, device: timed.device };
+      const png = await page.screenshot();
+      assert.equal(await notBlank(page, png), true, "the screenshot is blank");
+      if (shots) {
+        fs.mkdirSync(shots, { recursive: true });
+        fs.writeFileSync(path.join(shots, `${demo}.png`), png);
+      }
+    });
+  }
+
+  await check("changing a parameter changes the simulation (gravity up lifts the flag)", async () => {
+    await page.goto(`${base}?demo=wind`);
+    const before = await until(page, "the flag", (s) => s.frame >= 20);
+    await page.evaluate(() => window.pleat.set("gravity", 30));
+    const after = await until(page, "the flag to rise", (s) => s.frame >= before.frame + 40);
+    assert.ok(after.centroid[1] > before.centroid[1] + 0.05, `centroid y ${before.centroid[1]} -> ${after.centroid[1]}`);
+    await page.evaluate(() => window.pleat.set("no_such_parameter", 1));
+    const refused = await until(page, "the refusal", (s) => s.last_error !== null);
+    assert.match(refused.last_error, /no parameter named 'no_such_parameter'/);
+  });
+
+  await check("a mouse drag grabs the cloth and moves it", async () => {
+    await page.goto(`${base}?demo=drape`);
+    const settled = await until(page, "the cloth to settle", (s) => s.frame >= 60 && s.cloth_point);
+    const [x, y] = settled.cloth_point;
+    await page.mouse.move(x, y);
+    await page.mouse.down();
+    for (let k = 1; k <= 10; k++) {
+      await page.mouse.move(x, y - 25 * k);
+      await page.waitForTimeout(50);
+    }
+    const held = await until(page, "the grab", (s) => s.grabbing && s.frame >= settled.frame + 20);
+    await page.waitForTimeout(1000);
+    const lifted = await state(page);
+    await page.mouse.up();
+    assert.ok(held.grabbing);
+    assert.ok(lifted.centroid[1] > settled.centroid[1] + 0.02, `centroid y ${settled.centroid[1]} -> ${lifted.centroid[1]}`);
+    const released = await until(page, "the release", (s) => !s.grabbing);
+    assert.equal(released.last_error, null);
+  });
+
+  await check("a malformed dropped file shows an error while frames go on", async () => {
+    await page.goto(`${base}?demo=rigid`);
+    const before = await until(page, "the demo", (s) => s.frame >= 5);
+    await page.evaluate(() => {
+      const data = new DataTransfer();
+      data.items.add(new File(['{"cloths": [{"mesh": 3}]}'], "broken.json", { type: "application/json" }));
+      document.getElementById("pleat").dispatchEvent(new DragEvent("drop", { dataTransfer: data, bubbles: true, cancelable: true }));
+    });
+    const shown = await until(page, "the error", (s) => s.last_error !== null);
+    assert.match(shown.last_error, /broken\.json/);
+    assert.match(shown.last_error, /cloths\[0\]\.mesh/);
+    const going = await until(page, "frames after the error", (s) => s.frame >= shown.frame + 10);
+    assert.equal(going.demo, "rigid", "the running scene was kept");
+    assert.ok(going.frame > before.frame);
+  });
+
+  await check("a dropped crease pattern folds", async () => {
+    await page.evaluate(() => {
+      const data = new DataTransfer();
+      const cp = "2 -1 -1 1 1\n3 -1 1 1 -1\n";
+      data.items.add(new File([cp], "x.cp"));
+      document.getElementById("pleat").dispatchEvent(new DragEvent("drop", { dataTransfer: data, bubbles: true, cancelable: true }));
+    });
+    const opened = await until(page, "the pattern", (s) => s.demo === "x.cp" && s.frame >= 10);
+    assert.ok(opened.particles >= 5, JSON.stringify(opened));
+  });
+} finally {
+  if (shots) fs.writeFileSync(path.join(shots, "fps.json"), JSON.stringify(rates, null, 2));
+  console.log(JSON.stringify(rates));
+  if (failed) console.log(logs.slice(-40).join("\n"));
+  await browser.close();
+  server.close();
+}
+process.exit(failed ? 1 : 0);
