@@ -22,11 +22,12 @@ if (!dist) {
   process.exit(2);
 }
 
-function serve(root) {
+function serve(folder) {
+  const root = path.resolve(folder);
   const server = http.createServer((req, res) => {
     const name = decodeURIComponent(new URL(req.url, "http://x").pathname).replace(/^\/+/, "") || "index.html";
     const file = path.join(root, name);
-    if (!file.startsWith(path.resolve(root)) || !fs.existsSync(file)) {
+    if (!file.startsWith(root) || !fs.existsSync(file) || fs.statSync(file).isDirectory()) {
       res.writeHead(404).end();
       return;
     }
@@ -77,15 +78,15 @@ async function notBlank(page, png) {
   return stats.colours > 50 && stats.deviation > 10 ? true : stats;
 }
 
+if (shots) fs.mkdirSync(shots, { recursive: true });
 const server = await serve(dist);
 const base = `http://127.0.0.1:${server.address().port}/`;
 const browser = await chromium.launch({
   executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium",
   args: [
-    "--no-sandbox", "--enable-unsafe-webgpu", "--enable-features=Vulkan",
-    "--use-vulkan=swiftshader", "--use-webgpu-adapter=swiftshader", "--use-angle=swiftshader",
-    "--disable-vulkan-surface", "--disable-background-networking", "--disable-component-update",
-    "--disable-sync", "--disable-quic", "--no-first-run",
+    // WebGPU (on SwiftShader where there is no GPU); no calls to the outside.
+    "--no-sandbox", "--enable-unsafe-webgpu", "--disable-background-networking",
+    "--disable-component-update", "--disable-sync", "--disable-quic", "--no-first-run",
   ],
 });
 const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
@@ -131,7 +132,6 @@ try {
       const png = await page.screenshot();
       assert.equal(await notBlank(page, png), true, "the screenshot is blank");
       if (shots) {
-        fs.mkdirSync(shots, { recursive: true });
         fs.writeFileSync(path.join(shots, `${demo}.png`), png);
       }
     });

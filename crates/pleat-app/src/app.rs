@@ -266,10 +266,16 @@ fn compute_context(state: &eframe::egui_wgpu::RenderState) -> Option<GpuContext>
         .flags
         .contains(wgpu::DownlevelFlags::COMPUTE_SHADERS);
     let info = state.adapter.get_info();
+    // Browsers keep the adapter's name to themselves.
+    let name = if info.name.is_empty() {
+        "WebGPU adapter"
+    } else {
+        &info.name
+    };
     compute.then(|| GpuContext {
         device: state.device.clone(),
         queue: state.queue.clone(),
-        adapter: format!("{} ({:?})", info.name, info.backend),
+        adapter: format!("{name} ({:?})", info.backend),
     })
 }
 

@@ -119,7 +119,8 @@ fn trilinear(c: Collider, q: vec3<f32>) -> vec4<f32> {
 
 fn normalize_or(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
     let len = length(v);
-    if len > 0.0 && len <= 3.40282347e38 {
+    // 3.4e38, not f32::MAX: see MAX_FINITE in wind.wgsl.
+    if len > 0.0 && len <= 3.4e38 {
         return v / len;
     }
     return fallback;

@@ -437,6 +437,9 @@ impl Stages {
             bind_group: group(buffers),
             dispatches,
         };
+        // Fillers for the slots a kernel does not use: WebGPU forbids one
+        // buffer in two writable slots of a group.
+        let spare = [0, 1, 2].map(|_| zeroed(device, "unused slot", 16));
         let wind_buffers = [&b.triangles, &b.triangle_force, &b.around_start, &b.around];
         let constraints = b
             .constraints
@@ -455,7 +458,7 @@ impl Stages {
                 };
                 let [third, fourth] = match &k.extra {
                     Some([a, b]) => [a, b],
-                    None => [&per_substep.targets, &k.items],
+                    None => [&per_substep.targets, &spare[0]],
                 };
                 stage(
                     pipeline,
@@ -478,12 +481,7 @@ impl Stages {
             pins: (b.pin_dispatch.1 > 0).then(|| {
                 stage(
                     &kernels.place_pins,
-                    [
-                        &b.hard_pins,
-                        &b.hard_pins,
-                        &per_substep.targets,
-                        &b.hard_pins,
-                    ],
+                    [&b.hard_pins, &spare[0], &per_substep.targets, &spare[1]],
                     vec![b.pin_dispatch],
                 )
             }),
@@ -491,7 +489,7 @@ impl Stages {
             track: (b.track_dispatch.1 > 0).then(|| {
                 stage(
                     &kernels.track,
-                    [hinges, hinges, hinges, hinges],
+                    [hinges, &spare[0], &spare[1], &spare[2]],
                     vec![b.track_dispatch],
                 )
             }),
