@@ -308,9 +308,9 @@ fn malformed_fold_files_are_refused_with_json_path_and_reason() {
             ),
             (
                 "folded state",
-                r#"{"vertices_coords": [[0,0,0],[1,0,0.5]], "edges_vertices": [[0,1]]}"#,
-                "vertices_coords[1][2]",
-                "only flat crease patterns",
+                r#"{"vertices_coords": [[0,0,0],[1,0,0],[0,1,0],[1,1,0.5]], "edges_vertices": [[0,1]]}"#,
+                "vertices_coords[1]",
+                "a folded state (3D vertices_coords); only flat crease patterns",
             ),
             (
                 "no edges",
