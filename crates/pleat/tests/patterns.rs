@@ -191,6 +191,24 @@ fn known_facts_about_the_shared_files() {
     assert!(bird.edges.iter().any(|e| e.assignment == Assignment::Flat));
 }
 
+/// Origami Simulator files that needed a tolerant importer: CSS-styled
+/// strokes, curves finer than the merge tolerance (tests/data/SOURCES.md).
+#[test]
+fn css_styled_and_finely_curved_svgs_are_read() {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    for (file, min_creases) in [("Leafy_Opus_T-69.svg", 700), ("HexSpiralTess.svg", 2000)] {
+        let (pattern, warnings) = load_pattern_with_warnings(data.join(file)).unwrap();
+        assert!(warnings.is_empty(), "{file}: {warnings:?}");
+        let sheet = Sheet::from_pattern(&pattern, &SheetOptions::default())
+            .unwrap_or_else(|e| panic!("{file}: {e}"));
+        assert!(
+            sheet.crease_count() >= min_creases,
+            "{file}: {} creases",
+            sheet.crease_count()
+        );
+    }
+}
+
 /// `(what, input, location, reason)` for one error kind.
 type Case = (&'static str, &'static str, &'static str, &'static str);
 
@@ -308,9 +326,9 @@ fn malformed_fold_files_are_refused_with_json_path_and_reason() {
             ),
             (
                 "folded state",
-                r#"{"vertices_coords": [[0,0,0],[1,0,0.5]], "edges_vertices": [[0,1]]}"#,
-                "vertices_coords[1][2]",
-                "only flat crease patterns",
+                r#"{"vertices_coords": [[0,0,0],[1,0,0],[0,1,0],[1,1,0.5]], "edges_vertices": [[0,1]]}"#,
+                "vertices_coords[1]",
+                "a folded state (3D vertices_coords); only flat crease patterns",
             ),
             (
                 "no edges",

@@ -1,7 +1,9 @@
 //! FOLD importer and writer (<https://github.com/edemaine/fold>, file_spec
 //! 1 and 1.1).
 //!
-//! Read: `vertices_coords` (2D, or 3D with z = 0), `edges_vertices`,
+//! Read: `vertices_coords` (2D, or 3D in one plane: z = 0, or any other
+//! plane, as Origami Simulator saves its unfolded sheets in the x-z plane,
+//! which is turned into the x-y plane keeping its sides), `edges_vertices`,
 //! `edges_assignment` (B, M, V, F, U, C; absent means all U) and
 //! `edges_foldAngle` (degrees; the sign is taken from the assignment for M
 //! and V, `null` means none). When `edges_vertices` is absent the edges are
@@ -10,13 +12,15 @@
 
 use std::collections::HashMap;
 
-use glam::DVec2;
+use glam::{DVec2, DVec3};
 use serde_json::{Map, Value};
 
 use super::pattern::{Assignment, CreasePattern, PatternEdge, PatternError};
 
-/// Largest |z| accepted in `vertices_coords`, relative to the pattern size.
-const FLAT_Z_TOLERANCE: f64 = 1e-9;
+/// Largest distance of a vertex from the plane of the pattern, relative to
+/// the pattern size (coordinates written from single precision are good
+/// to about 1e-7).
+const FLAT_TOLERANCE: f64 = 1e-6;
 
 /// Parses the text of a FOLD file.
 pub fn parse_fold(text: &str) -> Result<CreasePattern, PatternError> {
@@ -70,7 +74,6 @@ fn required<'a>(root: &'a Map<String, Value>, key: &str) -> Result<&'a Value, Pa
 fn vertices_coords(root: &Map<String, Value>) -> Result<Vec<DVec2>, PatternError> {
     let list = expect_array(required(root, "vertices_coords")?, "vertices_coords")?;
     let mut points = Vec::with_capacity(list.len());
-    let mut heights = Vec::new();
     for (i, entry) in list.iter().enumerate() {
         let path = format!("vertices_coords[{i}]");
         let coords = expect_array(entry, &path)?;
@@ -85,29 +88,70 @@ fn vertices_coords(root: &Map<String, Value>) -> Result<Vec<DVec2>, PatternError
         }
         let x = number(&coords[0], &format!("{path}[0]"))?;
         let y = number(&coords[1], &format!("{path}[1]"))?;
-        if let Some(z) = coords.get(2) {
-            heights.push((number(z, &format!("{path}[2]"))?, format!("{path}[2]")));
-        }
-        points.push(DVec2::new(x, y));
+        let z = match coords.get(2) {
+            Some(z) => number(z, &format!("{path}[2]"))?,
+            None => 0.0,
+        };
+        points.push(DVec3::new(x, y, z));
     }
-    check_flat(&points, &heights)?;
-    Ok(points)
+    flatten(&points)
 }
 
-/// Refuses folded states: every z must be 0 up to round-off.
-fn check_flat(points: &[DVec2], heights: &[(f64, String)]) -> Result<(), PatternError> {
-    let min = points.iter().copied().fold(DVec2::INFINITY, DVec2::min);
-    let max = points.iter().copied().fold(DVec2::NEG_INFINITY, DVec2::max);
-    let size = (max - min).length();
-    for (z, path) in heights {
-        if z.abs() > FLAT_Z_TOLERANCE * size {
-            return Err(PatternError::new(
-                path.as_str(),
-                format!("z = {z}: only flat crease patterns (z = 0) can be imported"),
-            ));
-        }
+/// The vertices as 2D points: `(x, y)` when every z is 0 up to round-off,
+/// else their coordinates in the plane they all lie in (axes chosen so that
+/// the plane's normal, its largest component made positive, plays the part
+/// of +z); a folded state, whose vertices lie in no one plane, is refused
+/// with the vertex furthest from the plane.
+fn flatten(points: &[DVec3]) -> Result<Vec<DVec2>, PatternError> {
+    let min = points.iter().copied().fold(DVec3::INFINITY, DVec3::min);
+    let max = points.iter().copied().fold(DVec3::NEG_INFINITY, DVec3::max);
+    let tolerance = FLAT_TOLERANCE * (max - min).length();
+    if points.iter().all(|p| p.z.abs() <= tolerance) {
+        return Ok(points.iter().map(|p| p.truncate()).collect());
     }
-    Ok(())
+    let Some(&origin) = points.first() else {
+        return Ok(Vec::new());
+    };
+    let far = |from: &dyn Fn(DVec3) -> f64| {
+        points
+            .iter()
+            .copied()
+            .max_by(|a, b| from(*a).total_cmp(&from(*b)))
+            .unwrap_or(origin)
+    };
+    let a = far(&|p| p.distance_squared(origin)) - origin;
+    let b = far(&|p| a.cross(p - origin).length_squared()) - origin;
+    let mut normal = a.cross(b).normalize_or_zero();
+    // Collinear points lie in every plane: any normal will do.
+    if normal == DVec3::ZERO {
+        normal = a.any_orthonormal_vector();
+    }
+    let axis = normal.abs().max_position();
+    if normal[axis] < 0.0 {
+        normal = -normal;
+    }
+    let (worst, distance) = points
+        .iter()
+        .map(|p| (p - origin).dot(normal).abs())
+        .enumerate()
+        .max_by(|x, y| x.1.total_cmp(&y.1))
+        .unwrap_or((0, 0.0));
+    if distance > tolerance {
+        return Err(PatternError::new(
+            format!("vertices_coords[{worst}]"),
+            format!(
+                "{distance} off the plane of the others: a folded state (3D vertices_coords); \
+                 only flat crease patterns can be imported"
+            ),
+        ));
+    }
+    let next = DVec3::AXES[(axis + 1) % 3];
+    let u = (next - normal * normal.dot(next)).normalize();
+    let w = normal.cross(u);
+    Ok(points
+        .iter()
+        .map(|p| DVec2::new((p - origin).dot(u), (p - origin).dot(w)))
+        .collect())
 }
 
 fn number(value: &Value, path: &str) -> Result<f64, PatternError> {
@@ -405,13 +449,40 @@ mod tests {
             "edges_assignment: has 0 entries, but edges_vertices has 1"
         );
         assert_eq!(
-            error(r#"{"vertices_coords":[[0,0,1],[1,0,0]],"edges_vertices":[[0,1]]}"#),
-            "vertices_coords[0][2]: z = 1: only flat crease patterns (z = 0) can be imported"
+            error(
+                r#"{"vertices_coords":[[0,0,0],[1,0,0],[0,1,0],[0,0,0.5]],"edges_vertices":[[0,1]]}"#
+            ),
+            "vertices_coords[3]: 0.5 off the plane of the others: a folded state \
+             (3D vertices_coords); only flat crease patterns can be imported"
         );
         assert_eq!(
             error(r#"{"vertices_coords":{},"edges_vertices":[]}"#),
             "vertices_coords: expected an array, found an object"
         );
+    }
+
+    #[test]
+    fn a_sheet_in_another_plane_is_turned_into_the_xy_plane() {
+        // Origami Simulator saves its sheets in the x-z plane (y up).
+        let text = r#"{"vertices_coords":[[0,0,0],[2,0,0],[2,0,-1],[0,-0.0,-1]],
+            "edges_vertices":[[0,1],[1,2],[2,3],[3,0],[0,2]],
+            "edges_assignment":["B","B","B","B","V"]}"#;
+        let p = parse_fold(text).unwrap();
+        let lengths: Vec<f64> = p
+            .edges
+            .iter()
+            .map(|e| p.vertices[e.v[0]].distance(p.vertices[e.v[1]]))
+            .collect();
+        for (l, expected) in lengths.iter().zip([2.0, 1.0, 2.0, 1.0, 5f64.sqrt()]) {
+            assert!((l - expected).abs() < 1e-12, "{lengths:?}");
+        }
+        // Seen from +y, as from +z in the x-y plane: the sides are kept.
+        let [o, a, b] = [0, 1, 2].map(|i| p.vertices[i]);
+        assert!((a - o).perp_dot(b - o) > 0.0, "{:?}", p.vertices);
+        // A tilted plane, too.
+        let tilted =
+            r#"{"vertices_coords":[[0,0,0],[1,1,1],[1,-1,0]],"edges_vertices":[[0,1],[1,2]]}"#;
+        assert_eq!(parse_fold(tilted).unwrap().vertices.len(), 3);
     }
 
     #[test]

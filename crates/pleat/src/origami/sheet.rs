@@ -59,7 +59,9 @@ pub struct SheetOptions {
     pub max_edge: Option<f64>,
     /// Points closer than this fraction of the pattern's diameter are
     /// merged, and points this close to an edge split it
-    /// ([`MERGE_TOLERANCE`] by default).
+    /// ([`MERGE_TOLERANCE`] by default). Where merging leaves edges that
+    /// cross (features finer than the tolerance), the sheet is built again
+    /// with half the tolerance, up to three times.
     pub merge_tolerance: f64,
 }
 
@@ -105,16 +107,32 @@ impl Sheet {
         options: &SheetOptions,
     ) -> Result<Sheet, PatternError> {
         check_options(options)?;
-        let graph = planarize(pattern, options.merge_tolerance)?;
-        if graph.edges.is_empty() {
-            return Err(PatternError::new(
-                "",
-                "the pattern has no segment of non-zero length",
-            ));
-        }
-        let frame = Frame::of(&graph);
         let max_edge = options.max_edge.map(|e| e / options.size);
-        let cdt = triangulate(&graph, &frame, max_edge)?;
+        // Merging moves points, and a crossing snapped onto a nearby vertex
+        // can leave pieces that cross other edges where the pattern has
+        // features finer than the merge tolerance (dense curved creases
+        // drawn as many short pieces): the cleanup is then repeated with a
+        // tolerance halved, a few times, before the pattern is refused.
+        let mut tolerance = options.merge_tolerance;
+        let mut attempts = 1;
+        let (graph, cdt) = loop {
+            let graph = planarize(pattern, tolerance)?;
+            if graph.edges.is_empty() {
+                return Err(PatternError::new(
+                    "",
+                    "the pattern has no segment of non-zero length",
+                ));
+            }
+            let frame = Frame::of(&graph);
+            match triangulate(&graph, &frame, max_edge) {
+                Ok(cdt) => break (graph, cdt),
+                Err(Crossing(_)) if attempts < CLEANUP_ATTEMPTS => {
+                    tolerance *= 0.5;
+                    attempts += 1;
+                }
+                Err(Crossing(e) | Other(e)) => return Err(e),
+            }
+        };
         let labels = label_constraints(&cdt, &graph)?;
         let region = Region::find(&cdt, &graph, &labels);
         if region.inside.iter().all(|&inside| !inside) {
@@ -201,31 +219,43 @@ impl Frame {
     }
 }
 
+/// Merge tolerances tried (each half the last) before a pattern whose
+/// edges still cross after cleanup is refused.
+const CLEANUP_ATTEMPTS: usize = 4;
+
+/// Why a graph did not triangulate.
+enum TriangulationError {
+    /// An edge crosses another: another cleanup pass may help.
+    Crossing(PatternError),
+    Other(PatternError),
+}
+use TriangulationError::{Crossing, Other};
+
 fn triangulate(
     graph: &CreasePattern,
     frame: &Frame,
     max_edge: Option<f64>,
-) -> Result<Cdt, PatternError> {
+) -> Result<Cdt, TriangulationError> {
     let mut cdt = Cdt::new();
     for (i, &p) in graph.vertices.iter().enumerate() {
         cdt.insert(frame.normalise(p)).map_err(|e| {
-            PatternError::new(
+            Other(PatternError::new(
                 format!("vertex {i}"),
                 format!("cannot be triangulated: {e}"),
-            )
+            ))
         })?;
     }
     for (i, edge) in graph.edges.iter().enumerate() {
         let [a, b] = edge.v.map(FixedVertexHandle::from_index);
         if cdt.try_add_constraint(a, b).is_empty() {
-            return Err(PatternError::new(
+            return Err(Crossing(PatternError::new(
                 format!("edge {i}"),
                 "crosses another edge after cleanup (the pattern is numerically degenerate)",
-            ));
+            )));
         }
     }
     if let Some(max_edge) = max_edge {
-        refine(&mut cdt, max_edge)?;
+        refine(&mut cdt, max_edge).map_err(Other)?;
     }
     Ok(cdt)
 }

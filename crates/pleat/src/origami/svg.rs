@@ -5,7 +5,10 @@
 //!
 //! Reads `line`, `path`, `rect`, `polygon` and `polyline` under the root
 //! `<svg>` and inside `<g>` groups (with their `transform`s and inherited
-//! `stroke`). Paths take M, L, H, V, Z, C, S, Q, T in absolute and relative
+//! `stroke`), with `stroke` and opacity given as attributes, in a `style`
+//! attribute or by the rules of `<style>` sheets (Illustrator's
+//! `.st0{stroke:#FF0000}` classes: selectors by class, element name and id,
+//! comma lists; see [`Css`]). Paths take M, L, H, V, Z, C, S, Q, T in absolute and relative
 //! form: curves (curved creases) become polylines of 8 straight pieces;
 //! arcs (A) are refused with an error naming them. Rounded rectangle corners (`rx`) are drawn square.
 //! Strokes of other colours are ignored with a warning. The y axis is turned
@@ -71,8 +74,9 @@ pub fn parse_svg(text: &str) -> Result<SvgImport, PatternError> {
             ),
         ));
     }
+    let css = Css::of(&doc);
     let mut reader = Reader::default();
-    reader.container(&doc, root, &Inherited::default())?;
+    reader.container(&doc, &css, root, &Inherited::default())?;
     reader.finish()
 }
 
@@ -95,11 +99,12 @@ impl Reader {
     fn container<'a>(
         &mut self,
         doc: &Document,
+        css: &Css<'a>,
         node: Node<'a, '_>,
         inherited: &Inherited<'a>,
     ) -> Result<(), PatternError> {
         for child in node.children().filter(Node::is_element) {
-            self.element(doc, child, inherited)?;
+            self.element(doc, css, child, inherited)?;
         }
         Ok(())
     }
@@ -107,6 +112,7 @@ impl Reader {
     fn element<'a>(
         &mut self,
         doc: &Document,
+        css: &Css<'a>,
         node: Node<'a, '_>,
         inherited: &Inherited<'a>,
     ) -> Result<(), PatternError> {
@@ -114,16 +120,16 @@ impl Reader {
         let located = |reason: String| PatternError::new(format!("line {line}"), reason);
         let local = Inherited {
             transform: inherited.transform * transform(node).map_err(located)?,
-            stroke: property(node, "stroke").or(inherited.stroke),
+            stroke: property(css, node, "stroke").or(inherited.stroke),
         };
         if node.tag_name().name() == "g" {
-            return self.container(doc, node, &local);
+            return self.container(doc, css, node, &local);
         }
-        self.drawn(node, line, &local).map_err(located)
+        self.drawn(css, node, line, &local).map_err(located)
     }
 
     /// A drawn element: its segments, or a warning for an unknown colour.
-    fn drawn(&mut self, node: Node, line: u32, local: &Inherited) -> Result<(), String> {
+    fn drawn(&mut self, css: &Css, node: Node, line: u32, local: &Inherited) -> Result<(), String> {
         let name = node.tag_name().name();
         let Some(subpaths) = shape(node).map_err(|e| format!("<{name}> {e}"))? else {
             return Ok(());
@@ -138,7 +144,7 @@ impl Reader {
             }
         };
         let fold_angle = match assignment.fold_sign() {
-            Some(sign) => Some(sign * 180.0 * opacity(node)?),
+            Some(sign) => Some(sign * 180.0 * opacity(css, node)?),
             None => None,
         };
         for subpath in subpaths {
@@ -202,9 +208,180 @@ impl Reader {
     }
 }
 
-/// A presentation property: the `style` declaration wins over the attribute.
-fn property<'a>(node: Node<'a, '_>, name: &str) -> Option<&'a str> {
-    style_declaration(node, name).or_else(|| node.attribute(name))
+/// A presentation property: the `style` declaration wins over the rules of
+/// the style sheets, which win over the attribute (as in CSS).
+fn property<'a>(css: &Css<'a>, node: Node<'a, '_>, name: &str) -> Option<&'a str> {
+    style_declaration(node, name)
+        .or_else(|| css.declaration(node, name))
+        .or_else(|| node.attribute(name))
+}
+
+/// The rules of the document's `<style>` sheets, as far as crease patterns
+/// use them: simple selectors (`.class`, `name`, `#id`, `name.class`, with
+/// comma lists), the most specific matching rule winning (id over class
+/// over element name), the later one among equals. Comments and at-rules
+/// (`@media` ...) are skipped; combinators and pseudo-classes never match.
+#[derive(Debug, Default)]
+struct Css<'a> {
+    rules: Vec<CssRule<'a>>,
+}
+
+#[derive(Debug)]
+struct CssRule<'a> {
+    selector: Selector<'a>,
+    declarations: Vec<(&'a str, &'a str)>,
+}
+
+#[derive(Debug, Default, PartialEq)]
+struct Selector<'a> {
+    name: Option<&'a str>,
+    class: Option<&'a str>,
+    id: Option<&'a str>,
+}
+
+impl<'a> Selector<'a> {
+    /// A simple selector, or `None` for what this reader does not match
+    /// (combinators, attributes, pseudo-classes).
+    fn parse(text: &'a str) -> Option<Self> {
+        let text = text.trim();
+        if text.is_empty() || text.contains(|c: char| c.is_whitespace() || "[]:>+~*".contains(c)) {
+            return None;
+        }
+        let mut selector = Selector::default();
+        let mut rest = text;
+        let end = rest.find(['.', '#']).unwrap_or(rest.len());
+        if end > 0 {
+            selector.name = Some(&rest[..end]);
+        }
+        rest = &rest[end..];
+        while let Some(kind) = rest.chars().next() {
+            let body = &rest[1..];
+            let end = body.find(['.', '#']).unwrap_or(body.len());
+            let part = &body[..end];
+            if part.is_empty() {
+                return None;
+            }
+            let slot = if kind == '.' {
+                &mut selector.class
+            } else {
+                &mut selector.id
+            };
+            if slot.is_some() {
+                return None;
+            }
+            *slot = Some(part);
+            rest = &body[end..];
+        }
+        Some(selector)
+    }
+
+    fn matches(&self, node: Node) -> bool {
+        self.name.is_none_or(|n| n == node.tag_name().name())
+            && self.id.is_none_or(|id| node.attribute("id") == Some(id))
+            && self.class.is_none_or(|class| {
+                node.attribute("class")
+                    .is_some_and(|classes| classes.split_whitespace().any(|c| c == class))
+            })
+    }
+
+    fn specificity(&self) -> u32 {
+        100 * self.id.is_some() as u32
+            + 10 * self.class.is_some() as u32
+            + self.name.is_some() as u32
+    }
+}
+
+impl<'a> Css<'a> {
+    /// The rules of every `<style>` element of `doc`, in document order.
+    fn of(doc: &'a Document) -> Self {
+        let mut css = Css::default();
+        for style in doc.descendants().filter(|n| n.has_tag_name("style")) {
+            for text in style.children().filter_map(|t| t.text()) {
+                css.parse(text);
+            }
+        }
+        css
+    }
+
+    fn parse(&mut self, text: &'a str) {
+        let mut rest = text;
+        loop {
+            rest = skip_comments(rest);
+            let Some(open) = rest.find('{') else { break };
+            let Some(close) = rest[open..].find('}').map(|i| open + i) else {
+                break;
+            };
+            let selectors = skip_comments(&rest[..open]);
+            let body = &rest[open + 1..close];
+            if selectors.trim_start().starts_with('@') {
+                // An at-rule: skip its block, nested rules and all.
+                rest = skip_block(&rest[open..]);
+                continue;
+            }
+            let declarations: Vec<(&str, &str)> = body
+                .split(';')
+                .filter_map(|d| d.split_once(':'))
+                .map(|(k, v)| (k.trim(), v.trim()))
+                .collect();
+            for selector in selectors.split(',').filter_map(Selector::parse) {
+                self.rules.push(CssRule {
+                    selector,
+                    declarations: declarations.clone(),
+                });
+            }
+            rest = &rest[close + 1..];
+        }
+    }
+
+    /// The value the style sheets give `node` for `name`, if any.
+    fn declaration(&self, node: Node, name: &str) -> Option<&'a str> {
+        let mut best: Option<(u32, &'a str)> = None;
+        for rule in self.rules.iter().filter(|r| r.selector.matches(node)) {
+            let specificity = rule.selector.specificity();
+            if best.is_some_and(|(s, _)| s > specificity) {
+                continue;
+            }
+            if let Some(&(_, value)) = rule
+                .declarations
+                .iter()
+                .rev()
+                .find(|(k, _)| k.eq_ignore_ascii_case(name))
+            {
+                best = Some((specificity, value));
+            }
+        }
+        best.map(|(_, value)| value)
+    }
+}
+
+/// `text` from its first character that is neither white space nor in a
+/// `/* ... */` comment.
+fn skip_comments(text: &str) -> &str {
+    let mut rest = text.trim_start();
+    while let Some(body) = rest.strip_prefix("/*") {
+        rest = body
+            .find("*/")
+            .map_or("", |end| body[end + 2..].trim_start());
+    }
+    rest
+}
+
+/// `text` (starting at a `{`) after its matching `}`.
+fn skip_block(text: &str) -> &str {
+    let mut depth = 0usize;
+    for (i, c) in text.char_indices() {
+        match c {
+            '{' => depth += 1,
+            '}' => {
+                depth = depth.saturating_sub(1);
+                if depth == 0 {
+                    return &text[i + 1..];
+                }
+            }
+            _ => {}
+        }
+    }
+    ""
 }
 
 fn style_declaration<'a>(node: Node<'a, '_>, name: &str) -> Option<&'a str> {
@@ -278,13 +455,16 @@ fn parse_hex(hex: &str) -> Option<[u8; 3]> {
 }
 
 /// `opacity` attribute, else `opacity` style, else `stroke-opacity`
-/// attribute, then style, else 1; clamped to [0, 1].
-fn opacity(node: Node) -> Result<f64, String> {
+/// attribute, then style, then the style sheets' `opacity` and
+/// `stroke-opacity`, else 1; clamped to [0, 1].
+fn opacity(css: &Css, node: Node) -> Result<f64, String> {
     let value = node
         .attribute("opacity")
         .or_else(|| style_declaration(node, "opacity"))
         .or_else(|| node.attribute("stroke-opacity"))
-        .or_else(|| style_declaration(node, "stroke-opacity"));
+        .or_else(|| style_declaration(node, "stroke-opacity"))
+        .or_else(|| css.declaration(node, "opacity"))
+        .or_else(|| css.declaration(node, "stroke-opacity"));
     let Some(text) = value else {
         return Ok(1.0);
     };
@@ -426,6 +606,63 @@ mod tests {
         let expected = [-90.0, 18.0, 45.0, 180.0];
         for (a, e) in angles.iter().zip(expected) {
             assert!((a - e).abs() < 1e-9, "{angles:?}");
+        }
+    }
+
+    #[test]
+    fn style_sheet_classes_give_stroke_and_opacity() {
+        // As Illustrator writes them (Origami Simulator's Origami_Sphere_16Flaps.svg).
+        let body = r#"<style type="text/css">
+            /* crease colours */
+            .st0{fill:none;stroke:#FF0000;stroke-width:0.5;}
+            .st1{fill:none;stroke:#0000FF;stroke-opacity:0.5;}
+            line.edge, #outline { stroke: #000 }
+            @media print { .st0 { stroke: #00FF00 } }
+            g .st0 { stroke: #FFFF00 }
+            .weak { stroke: #FF0000 } .weak { stroke-opacity: 25% }
+        </style>
+        <line x1="0" y1="0" x2="1" y2="0" class="st0"/>
+        <line x1="0" y1="1" x2="1" y2="1" class="other st1"/>
+        <line x1="0" y1="2" x2="1" y2="2" class="st1" stroke="red"/>
+        <line x1="0" y1="3" x2="1" y2="3" class="st1" style="stroke:red"/>
+        <line x1="0" y1="4" x2="1" y2="4" class="edge"/>
+        <path d="M0,5 L1,5" class="edge"/>
+        <polyline points="0,6 1,6" id="outline" class="st1"/>
+        <line x1="0" y1="7" x2="1" y2="7" class="weak"/>"#;
+        let p = parse_svg(&svg(body)).unwrap().pattern;
+        let at = |y: f64| {
+            let e = p
+                .edges
+                .iter()
+                .find(|e| p.vertices[e.v[0]].y == -y)
+                .unwrap_or_else(|| panic!("no edge at y = {y}"));
+            (e.assignment, e.fold_angle)
+        };
+        assert_eq!(at(0.0), (Assignment::Mountain, Some(-180.0)));
+        assert_eq!(at(1.0), (Assignment::Valley, Some(90.0)));
+        // The style sheet wins over the attribute, the style attribute over both.
+        assert_eq!(at(2.0), (Assignment::Valley, Some(90.0)));
+        assert_eq!(at(3.0).0, Assignment::Mountain);
+        assert_eq!(at(4.0).0, Assignment::Boundary);
+        // `line.edge` does not select a path; the id wins over the class.
+        assert!(p.edges.iter().all(|e| p.vertices[e.v[0]].y != -5.0));
+        assert_eq!(at(6.0).0, Assignment::Boundary);
+        assert_eq!(at(7.0), (Assignment::Mountain, Some(-45.0)));
+    }
+
+    #[test]
+    fn selectors_this_reader_matches() {
+        assert_eq!(
+            Selector::parse("path.st0"),
+            Some(Selector {
+                name: Some("path"),
+                class: Some("st0"),
+                id: None
+            })
+        );
+        assert_eq!(Selector::parse("#a").unwrap().specificity(), 100);
+        for ignored in ["g .st0", "a > b", ".a:hover", "[x]", "*", ".", ".a.b", ""] {
+            assert_eq!(Selector::parse(ignored), None, "{ignored}");
         }
     }
 
