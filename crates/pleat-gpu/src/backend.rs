@@ -8,6 +8,7 @@
 
 use crate::context::{GpuContext, GpuError};
 use crate::data::{self, Attachment, Counts, GpuPose, Params, Range};
+use crate::health::{HealthInputs, HealthWatch, PaperEdges};
 use crate::kernels::{workgroups, Kernels, UNIFORM_STRIDE};
 use crate::readback::Readback;
 use crate::timing::{TimedStage, Timestamps};
@@ -104,6 +105,8 @@ pub struct GpuBackend {
     stages: Stages,
     /// Per-stage GPU times, where the adapter has timestamp queries.
     timestamps: Option<Timestamps>,
+    /// Non-finite values, energy and paper strain after each frame.
+    health: HealthWatch,
     /// A read of the state asked for and not yet taken.
     pending: Option<Readback>,
     /// What each frame uploads, kept so that a step allocates nothing.
@@ -229,6 +232,8 @@ impl GpuBackend {
         let hard_pins = hard.attachments().to_vec();
         let mut table = RangeTable::default();
         let whole = table.push(0, 0);
+        let paper = PaperEdges::of(model);
+        let paper_range = table.push(0, paper.len());
         let projection = match settings.kind {
             SolverKind::JacobiPbd => {
                 jacobi_projection(context, model, soft, hard_pins.len(), &mut table)?
@@ -316,8 +321,18 @@ impl GpuBackend {
             &per_substep,
             &ranges,
         );
+        let health = HealthWatch::new(
+            device,
+            &kernels,
+            HealthInputs {
+                model,
+                paper: &paper,
+                ranges: (&ranges, paper_range.0),
+            },
+        );
         let backend = GpuBackend {
             context: context.clone(),
+            health,
             timestamps: Timestamps::new(device, &context.queue, settings.substeps.max(1)),
             pending: None,
             frame_data: FrameData::default(),
@@ -547,14 +562,18 @@ impl PerSubstep {
     }
 }
 
-fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+pub(crate) fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
     wgpu::BindGroupEntry {
         binding,
         resource: buffer.as_entire_binding(),
     }
 }
 
-fn sized_entry(binding: u32, buffer: &wgpu::Buffer, size: usize) -> wgpu::BindGroupEntry<'_> {
+pub(crate) fn sized_entry(
+    binding: u32,
+    buffer: &wgpu::Buffer,
+    size: usize,
+) -> wgpu::BindGroupEntry<'_> {
     wgpu::BindGroupEntry {
         binding,
         resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
@@ -566,7 +585,7 @@ fn sized_entry(binding: u32, buffer: &wgpu::Buffer, size: usize) -> wgpu::BindGr
 }
 
 /// A storage buffer holding `items` (16 bytes at least: empty bindings are invalid).
-fn storage<T: Pod>(device: &wgpu::Device, label: &str, items: &[T]) -> wgpu::Buffer {
+pub(crate) fn storage<T: Pod>(device: &wgpu::Device, label: &str, items: &[T]) -> wgpu::Buffer {
     let mut bytes = bytemuck::cast_slice::<T, u8>(items).to_vec();
     bytes.resize(bytes.len().max(16).next_multiple_of(4), 0);
     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -577,7 +596,7 @@ fn storage<T: Pod>(device: &wgpu::Device, label: &str, items: &[T]) -> wgpu::Buf
 }
 
 /// A zeroed storage buffer of `size` bytes (16 at least).
-fn zeroed(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
+pub(crate) fn zeroed(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
         size: size.max(16).next_multiple_of(4),
@@ -1052,10 +1071,17 @@ impl Backend for GpuBackend {
             }
             self.record_substep(&mut encoder, s, world, settings.iterations);
         }
+        let last = (substeps - 1) * UNIFORM_STRIDE as u32;
+        self.health.record(
+            &mut encoder,
+            (&self.stages.state, last),
+            world.time + frame_dt,
+        );
         if let Some(t) = &self.timestamps {
             t.resolve(&mut encoder, substeps);
         }
         self.context.queue.submit([encoder.finish()]);
+        self.health.request();
         if let Some(t) = &mut self.timestamps {
             t.request(substeps);
         }
@@ -1104,6 +1130,11 @@ impl Backend for GpuBackend {
 
     fn as_any(&self) -> &dyn std::any::Any {
         self
+    }
+
+    fn health(&mut self) -> Option<pleat::stability::Health> {
+        let _ = self.context.device.poll(wgpu::PollType::Poll);
+        self.health.collect()
     }
 
     fn upload(&mut self, particles: &Particles) {

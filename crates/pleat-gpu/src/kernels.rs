@@ -43,6 +43,8 @@ pub struct Kernels {
     pub attachment: wgpu::ComputePipeline,
     pub jacobi_correct: wgpu::ComputePipeline,
     pub jacobi_gather: wgpu::ComputePipeline,
+    /// The health reduction: per workgroup, then over the workgroups.
+    pub health: [wgpu::ComputePipeline; 2],
     /// Self-contact kernels in the order they run.
     pub self_contact: [wgpu::ComputePipeline; 8],
 }
@@ -145,6 +147,10 @@ impl Kernels {
             attachment: pipeline(shaders::ATTACHMENT, "solve", &with_kernel),
             jacobi_correct: pipeline(shaders::JACOBI, "correct", &with_kernel),
             jacobi_gather: pipeline(shaders::JACOBI, "gather", &with_kernel),
+            health: [
+                pipeline(shaders::HEALTH, "reduce_blocks", &with_kernel),
+                pipeline(shaders::HEALTH, "reduce_sums", &with_kernel),
+            ],
             self_contact: shaders::SELF_CONTACT
                 .entry_points
                 .iter()

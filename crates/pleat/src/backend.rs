@@ -15,6 +15,7 @@
 use crate::model::Model;
 use crate::particles::Particles;
 use crate::solver::{self, Solver, SolverSettings, StageTimes};
+use crate::stability::Health;
 use crate::world::World;
 
 /// `Send` where threads exist; nothing on wasm32, whose WebGPU handles
@@ -79,6 +80,13 @@ pub trait Backend: MaybeSend {
     fn try_download(&mut self, particles: &mut Particles) -> bool {
         self.download(particles);
         true
+    }
+
+    /// The latest [`Health`] summary of the state measured on the device
+    /// that has arrived since the last call, without waiting; `None` from
+    /// a backend that steps in place (the caller checks its particles).
+    fn health(&mut self) -> Option<Health> {
+        None
     }
 
     /// Replaces the backend's state by `particles` (after the caller edited

@@ -121,6 +121,7 @@ impl Simulation {
     /// arrived (the state as it was when asked for) and checks it for
     /// instability; says whether [`Simulation::particles`] is now current.
     pub fn try_sync(&mut self) -> bool {
+        self.observe_health();
         if !self.synced && self.backend.try_download(&mut self.particles) {
             self.synced = true;
             self.stability
@@ -132,6 +133,16 @@ impl Simulation {
     /// Waits until the steps handed to the backend have run (GPU timing).
     pub fn finish(&mut self) {
         self.backend.finish(&mut self.stages);
+        self.observe_health();
+    }
+
+    /// Checks the health summary the backend measured on its device, if
+    /// one has arrived (a GPU backend's state is otherwise checked only
+    /// when read back).
+    fn observe_health(&mut self) {
+        if let Some(health) = self.backend.health() {
+            self.stability.observe(&self.model, &self.world, &health);
+        }
     }
 
     /// Hands edited [`Simulation::particles`] back to the backend.
@@ -166,6 +177,7 @@ impl Simulation {
                 .check(&self.model, &self.world, &self.particles);
         } else {
             self.synced = false;
+            self.observe_health();
         }
     }
 
