@@ -9,13 +9,13 @@
 use crate::context::{GpuContext, GpuError};
 use crate::data::{self, Attachment, Counts, GpuPose, Params, Range};
 use crate::health::{HealthInputs, HealthWatch, PaperEdges};
-use crate::kernels::{workgroups, Kernels, UNIFORM_STRIDE};
+use crate::kernels::{workgroups, Kernels, COMPLIANCE_SLOTS, UNIFORM_STRIDE};
 use crate::readback::Readback;
 use crate::timing::{TimedStage, Timestamps};
 use bytemuck::Pod;
 use glam::Vec3;
 use pleat::collide::ColliderPose;
-use pleat::constraint::DistanceConstraint;
+use pleat::constraint::{Compliances, DistanceConstraint};
 use pleat::mesh::incidence::Incidence;
 use pleat::model::Model;
 use pleat::solver::jacobi::JacobiConstraints;
@@ -77,6 +77,8 @@ struct FrameData {
     params: Vec<u8>,
     targets: Vec<[f32; 4]>,
     poses: Vec<GpuPose>,
+    /// The live compliance table, [`COMPLIANCE_SLOTS`] long.
+    compliances: Vec<f32>,
 }
 
 /// Buffers whose size depends on the number of substeps per frame.
@@ -96,6 +98,8 @@ pub struct GpuBackend {
     pos: wgpu::Buffer,
     prev: wgpu::Buffer,
     vel: wgpu::Buffer,
+    /// The live compliance table (a uniform), written at every frame.
+    compliance_table: wgpu::Buffer,
     /// Lambda buffers, cleared at the start of every substep.
     lambdas: Vec<wgpu::Buffer>,
     ranges: wgpu::Buffer,
@@ -220,6 +224,7 @@ impl GpuBackend {
         settings: &SolverSettings,
     ) -> Result<(Self, Vec<String>), GpuError> {
         check_supported(settings)?;
+        check_compliance_slots(model)?;
         let data::Colliders {
             shapes: colliders,
             sdf_values,
@@ -298,6 +303,12 @@ impl GpuBackend {
             state("previous positions"),
             state("velocities"),
         );
+        let compliance_table = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("compliances"),
+            size: COMPLIANCE_SLOTS as u64 * 4,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
         let kernels = Kernels::new(device);
         let counts = Counts {
             particles: n as u32,
@@ -316,7 +327,7 @@ impl GpuBackend {
         let stages = Stages::new(
             device,
             &kernels,
-            [&pos, &prev, &vel],
+            [&pos, &prev, &vel, &compliance_table],
             &buffers,
             &per_substep,
             &ranges,
@@ -343,6 +354,7 @@ impl GpuBackend {
             pos,
             prev,
             vel,
+            compliance_table,
             lambdas,
             ranges,
             buffers,
@@ -419,7 +431,7 @@ impl Stages {
     fn new(
         device: &wgpu::Device,
         kernels: &Kernels,
-        [pos, prev, vel]: [&wgpu::Buffer; 3],
+        [pos, prev, vel, compliances]: [&wgpu::Buffer; 4],
         b: &KernelBuffers,
         per_substep: &PerSubstep,
         ranges: &wgpu::Buffer,
@@ -432,6 +444,7 @@ impl Stages {
                 entry(1, prev),
                 entry(2, vel),
                 sized_entry(3, &per_substep.params, size_of::<Params>()),
+                entry(4, compliances),
             ],
         });
         let group = |buffers: [&wgpu::Buffer; 4]| {
@@ -820,6 +833,18 @@ fn check_supported(settings: &SolverSettings) -> Result<(), GpuError> {
     Ok(())
 }
 
+/// Refuses more cloths than the live compliance table has slots for.
+fn check_compliance_slots(model: &Model) -> Result<(), GpuError> {
+    let slots = Compliances::of(model).len();
+    if slots > COMPLIANCE_SLOTS {
+        return Err(GpuError::TooLarge(format!(
+            "{} cloths need {slots} compliance slots, more than the {COMPLIANCE_SLOTS} of the GPU backend's table",
+            model.cloths.len()
+        )));
+    }
+    Ok(())
+}
+
 /// Refuses a buffer larger than one binding may be.
 fn check_size(context: &GpuContext, bytes: u64, what: &str) -> Result<(), GpuError> {
     let limit = context.device.limits().max_storage_buffer_binding_size;
@@ -845,7 +870,7 @@ impl GpuBackend {
         self.stages = Stages::new(
             device,
             &self.kernels,
-            [&self.pos, &self.prev, &self.vel],
+            [&self.pos, &self.prev, &self.vel, &self.compliance_table],
             &self.buffers,
             &self.per_substep,
             &self.ranges,
@@ -853,15 +878,23 @@ impl GpuBackend {
     }
 
     /// Writes the parameters, pin targets and collider poses of every
-    /// substep of the frame.
-    fn write_frame(&mut self, world: &World, settings: &SolverSettings, frame_dt: f32) -> u32 {
+    /// substep of the frame, and the live compliances.
+    fn write_frame(
+        &mut self,
+        world: &World,
+        (settings, table): (&SolverSettings, &Compliances),
+        frame_dt: f32,
+    ) -> u32 {
         let substeps = settings.substeps.max(1);
         self.reserve(substeps);
         let FrameData {
             params,
             targets,
             poses,
+            compliances,
         } = &mut self.frame_data;
+        table.write_to(compliances);
+        compliances.resize(COMPLIANCE_SLOTS, 0.0);
         params.clear();
         params.resize((substeps as u64 * UNIFORM_STRIDE) as usize, 0);
         targets.clear();
@@ -889,6 +922,7 @@ impl GpuBackend {
         }
         let queue = &self.context.queue;
         queue.write_buffer(&self.per_substep.params, 0, params);
+        queue.write_buffer(&self.compliance_table, 0, bytemuck::cast_slice(compliances));
         if !targets.is_empty() {
             queue.write_buffer(&self.per_substep.targets, 0, bytemuck::cast_slice(targets));
         }
@@ -1049,13 +1083,14 @@ impl Backend for GpuBackend {
         _particles: &mut Particles,
         world: &mut World,
         settings: &SolverSettings,
+        compliances: &Compliances,
         frame_dt: f32,
         stages: &mut StageTimes,
     ) {
         if let Some(t) = &mut self.timestamps {
             t.collect(stages);
         }
-        let substeps = self.write_frame(world, settings, frame_dt);
+        let substeps = self.write_frame(world, (settings, compliances), frame_dt);
         if let Some(t) = &mut self.timestamps {
             t.begin_frame(substeps);
         }

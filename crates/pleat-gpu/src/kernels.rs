@@ -1,5 +1,6 @@
 //! The compute pipelines and the two bind group layouts they share:
-//! group 0 the particle state and the substep's parameters, group 1 a
+//! group 0 the particle state, the substep's parameters and the live
+//! compliance table, group 1 a
 //! kernel's own buffers (four storage buffers) and the slice it works on.
 
 use crate::data::{Params, Range};
@@ -12,6 +13,8 @@ pub const WORKGROUP: u32 = 256;
 const MAX_GROUPS: u32 = 65535;
 /// Stride of dynamic uniform offsets (WebGPU's default alignment).
 pub const UNIFORM_STRIDE: u64 = 256;
+/// Slots of the live compliance table (`compliances` in common.wgsl).
+pub const COMPLIANCE_SLOTS: usize = 1024;
 
 /// Workgroups for `count` invocations: along x, then rows of x along y.
 pub fn workgroups(count: u32) -> (u32, u32) {
@@ -84,6 +87,16 @@ impl Kernels {
                 storage(1),
                 storage(2),
                 dynamic_uniform(3, size_of::<Params>()),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 4,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: wgpu::BufferSize::new(COMPLIANCE_SLOTS as u64 * 4),
+                    },
+                    count: None,
+                },
             ],
         });
         let kernel_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

@@ -6,7 +6,7 @@ mod common;
 use common::*;
 use glam::Vec3;
 use pleat::constraint::bending::dihedral_angle;
-use pleat::constraint::Grab;
+use pleat::constraint::{ComplianceKind, Compliances, Grab};
 use pleat::stability::{mechanical_energy, paper_edges, Instability};
 use pleat::{Backend, Simulation};
 use pleat_gpu::GpuBackend;
@@ -80,7 +80,7 @@ fn miura_ori_folds_to_half_like_the_cpu() {
         .paper
         .as_ref()
         .unwrap()
-        .hinge_constraints(cloth, &c.model.rest);
+        .hinge_constraints(cloth, 0, &c.model.rest);
     let angle = |sim: &Simulation, v: [u32; 4]| {
         dihedral_angle(v.map(|i| sim.particles.x[i as usize]))
             .unwrap()
@@ -310,11 +310,13 @@ fn the_health_reduction_measures_what_the_core_does() {
     backend.set_fold_progress(0.8);
     let mut stages = pleat::solver::StageTimes::default();
     let mut health = None;
+    let compliances = Compliances::of(&model);
     for _ in 0..10 {
         backend.step(
             &mut particles,
             &mut world,
             &scene.solver,
+            &compliances,
             scene.frame_dt(),
             &mut stages,
         );
@@ -360,5 +362,55 @@ fn the_health_reduction_measures_what_the_core_does() {
             .culprit
             .map(|i| particles.v[i as usize].length_squared()),
         fastest.map(|i| particles.v[i].length_squared())
+    );
+}
+
+/// A 16 x 16 sheet, flat at first, hanging from two corners (no tethers).
+const SWINGING: &str = r#"{ "name": "swinging", "fps": 60, "solver": { "substeps": 10 },
+    "cloths": [ { "mesh": { "grid": { "resolution": [16, 16], "size": [1.0, 1.0], "orientation": "horizontal", "center": [0.0, 1.5, 0.0] } },
+                  "material": { "stretch_compliance": 0.0, "shear_compliance": 1e-6 },
+                  "pins": [ { "corners": ["top_left", "top_right"] } ] } ] }"#;
+
+/// Largest distance between two sets of positions.
+fn largest_move(a: &[Vec3], b: &[Vec3]) -> f32 {
+    a.iter()
+        .zip(b)
+        .map(|(p, q)| p.distance(*q))
+        .fold(0.0, f32::max)
+}
+
+#[test]
+fn a_live_stretch_compliance_changes_both_backends_alike_and_keeps_the_state() {
+    let scene = scene(SWINGING);
+    let mut stiff = cpu(&scene);
+    run(&mut stiff, &scene, 60);
+    let stiff_stretch = stiff.metrics().max_stretch;
+    let (mut c, mut g) = (cpu(&scene), gpu(&scene));
+    for sim in [&mut c, &mut g] {
+        run(sim, &scene, 30);
+        let before = sim.particles.x.clone();
+        let swung = largest_move(&before, &sim.model.rest);
+        *sim.compliances.get_mut(0, ComplianceKind::Stretch).unwrap() = 1e-2;
+        run(sim, &scene, 1);
+        let jump = largest_move(&before, &sim.particles.x);
+        assert!(
+            swung > 0.3 && jump < 0.2 * swung,
+            "{}: the state goes on ({jump} m in a frame, {swung} m from rest)",
+            sim.backend_name()
+        );
+        run(sim, &scene, 29);
+        let soft_stretch = sim.metrics().max_stretch;
+        assert!(
+            soft_stretch > stiff_stretch + 0.05,
+            "{}: softer edges stretch more ({soft_stretch} vs {stiff_stretch})",
+            sim.backend_name()
+        );
+    }
+    let mean = mean_distance(&c, &g);
+    assert!(mean < 0.01, "GPU differs from CPU by {mean} m on average");
+    let (mc, mg) = (c.metrics().max_stretch, g.metrics().max_stretch);
+    assert!(
+        (mg - mc).abs() < 0.02 * mc,
+        "max stretch {mg} on the GPU, {mc} on the CPU"
     );
 }

@@ -8,10 +8,12 @@
 //! GPU buffer is slow and, in a browser, possible only between turns of the
 //! event loop.
 //!
-//! Parameters a person tunes while the simulation runs (damping, substeps,
-//! gravity, wind, the grabbed particle, fold progress) reach the backend at
-//! every step, by reference: changing one needs no rebuild.
+//! Parameters a person tunes while the simulation runs (compliances,
+//! damping, substeps, gravity, wind, the grabbed particle, fold progress)
+//! reach the backend at every step, by reference: changing one needs no
+//! rebuild.
 
+use crate::constraint::Compliances;
 use crate::model::Model;
 use crate::particles::Particles;
 use crate::solver::{self, Solver, SolverSettings, StageTimes};
@@ -43,13 +45,15 @@ pub trait Backend: MaybeSend {
     fn constraint_count(&self) -> usize;
 
     /// Advances the state by `frame_dt` in `world` from `world.time`, with
-    /// the current `settings`. A backend whose state lives elsewhere leaves
-    /// `particles` as they were: [`Backend::download`] brings them up to date.
+    /// the current `settings` and `compliances`. A backend whose state
+    /// lives elsewhere leaves `particles` as they were: [`Backend::download`]
+    /// brings them up to date.
     fn step(
         &mut self,
         particles: &mut Particles,
         world: &mut World,
         settings: &SolverSettings,
+        compliances: &Compliances,
         frame_dt: f32,
         stages: &mut StageTimes,
     );
@@ -130,10 +134,12 @@ impl Backend for CpuBackend {
         particles: &mut Particles,
         world: &mut World,
         settings: &SolverSettings,
+        compliances: &Compliances,
         frame_dt: f32,
         stages: &mut StageTimes,
     ) {
         self.solver.set_settings(settings);
+        self.solver.set_compliances(compliances);
         self.solver.step(particles, world, frame_dt, stages);
     }
 

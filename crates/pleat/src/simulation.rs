@@ -3,7 +3,7 @@
 //! instability.
 
 use crate::backend::{Backend, CpuBackend};
-use crate::constraint::Grab;
+use crate::constraint::{Compliances, Grab};
 use crate::metrics::Metrics;
 use crate::model::Model;
 use crate::origami::FoldRamp;
@@ -21,6 +21,9 @@ pub struct Simulation {
     pub particles: Particles,
     /// Read at every step: substeps, iterations and damping change live.
     pub settings: SolverSettings,
+    /// Read at every step: each cloth's compliances (stretch, shear,
+    /// bending, creases, facets) change live, keeping the state.
+    pub compliances: Compliances,
     pub stages: StageTimes,
     /// Fold progress animated over the first frames (origami); `None`
     /// leaves it where [`Simulation::set_fold_progress`] put it.
@@ -49,7 +52,9 @@ impl Simulation {
         backend: Box<dyn Backend>,
     ) -> Self {
         let particles = Particles::new(model.rest.clone(), &model.mass);
+        let compliances = Compliances::of(&model);
         let mut sim = Simulation {
+            compliances,
             model,
             world,
             particles,
@@ -167,6 +172,7 @@ impl Simulation {
             &mut self.particles,
             &mut self.world,
             &self.settings,
+            &self.compliances,
             frame_dt,
             &mut self.stages,
         );
