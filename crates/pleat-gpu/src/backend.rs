@@ -143,7 +143,7 @@ struct KernelBuffers {
 struct SelfContactBuffers {
     /// Bucket counts and starts, fill counters, sorted particles, scan sums.
     grid: wgpu::Buffer,
-    /// Triangles, then the triangles around each vertex (compressed rows).
+    /// Triangles, then the triangles each vertex owns (compressed rows).
     topology: wgpu::Buffer,
     /// Rest positions, for the rest-neighbour exclusion.
     rest: wgpu::Buffer,
@@ -158,13 +158,7 @@ struct SelfContactBuffers {
 const CONTACT_EDGE_STRETCH: f32 = 1.5;
 
 impl SelfContactBuffers {
-    fn new(
-        device: &wgpu::Device,
-        model: &Model,
-        thickness: f32,
-        triangles: &[u32],
-        (start, around): (&[u32], &[u32]),
-    ) -> Self {
+    fn new(device: &wgpu::Device, model: &Model, thickness: f32, triangles: &[u32]) -> Self {
         let n = model.particle_count() as u32;
         let longest = model
             .edges
@@ -173,7 +167,8 @@ impl SelfContactBuffers {
             .fold(0.0, f32::max);
         let buckets = (2 * n).next_power_of_two().max(crate::kernels::WORKGROUP);
         let grid_len = 2 * buckets as u64 + n as u64 + (buckets / crate::kernels::WORKGROUP) as u64;
-        let topology: Vec<u32> = [triangles, start, around].concat();
+        let (start, owned) = owned_triangles(model);
+        let topology: Vec<u32> = [triangles, &start, &owned].concat();
         let rest: Vec<[f32; 4]> = model
             .rest
             .iter()
@@ -188,6 +183,19 @@ impl SelfContactBuffers {
             buckets,
         }
     }
+}
+
+/// Each triangle under its vertex of lowest index, in compressed rows
+/// (starts, then triangles): a particle's contact search takes the
+/// triangles its neighbours own, so it meets each triangle once.
+fn owned_triangles(model: &Model) -> (Vec<u32>, Vec<u32>) {
+    fn lowest(t: &[u32; 3]) -> &[u32] {
+        let k = (0..3).min_by_key(|&k| t[k]).unwrap_or(0);
+        &t[k..k + 1]
+    }
+    let incidence = Incidence::new(&model.triangles, model.particle_count(), lowest);
+    let (start, slots) = incidence.rows();
+    (start.to_vec(), slots.iter().map(|s| s.element).collect())
 }
 
 /// One constraint kind's buffers and its dispatches (by colour).
@@ -262,7 +270,6 @@ impl GpuBackend {
                 model,
                 settings.self_collision.thickness,
                 &flat_triangles,
-                (start, &around),
             )
         });
         let buffers = KernelBuffers {
