@@ -2,7 +2,7 @@
 
 use crate::output::{FrameSink, Output, OutputArgs};
 use crate::report::Report;
-use crate::{check_backend, use_backend, with_threads};
+use crate::{build_on, check_backend, with_threads};
 use indicatif::{ProgressBar, ProgressStyle};
 use pleat::scene::Scene;
 use pleat::Simulation;
@@ -41,8 +41,7 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, String> {
     if let Some(frames) = args.frames {
         scene.frames = frames;
     }
-    let mut sim = scene.build(&base_dir, &file).map_err(|e| e.to_string())?;
-    use_backend(&mut sim, backend)?;
+    let mut sim = build_on(&scene, (&base_dir, &file), backend)?;
     let (frame_times, output) = run_frames(
         &mut sim,
         &scene.name,
