@@ -113,6 +113,8 @@ pub struct GpuBackend {
     health: HealthWatch,
     /// A read of the state asked for and not yet taken.
     pending: Option<Readback>,
+    /// The mappable buffer every read of the state goes through.
+    staging: wgpu::Buffer,
     /// What each frame uploads, kept so that a step allocates nothing.
     frame_data: FrameData,
     hard_pins: Vec<pleat::constraint::Attachment>,
@@ -353,6 +355,7 @@ impl GpuBackend {
             health,
             timestamps: Timestamps::new(device, &context.queue, settings.substeps.max(1)),
             pending: None,
+            staging: crate::readback::staging(device, 3 * n as u64 * PARTICLE_BYTES),
             frame_data: FrameData::default(),
             stages,
             kernels,
@@ -999,23 +1002,35 @@ impl GpuBackend {
     fn start_readback(&self) -> Readback {
         let size = self.counts.particles as u64 * PARTICLE_BYTES;
         Readback::start(
-            &self.context.device,
-            &self.context.queue,
+            (&self.context.device, &self.context.queue),
+            &self.staging,
             &[&self.pos, &self.prev, &self.vel],
             size,
         )
     }
 
-    /// Copies the three state buffers back, blocking until they arrive.
-    fn read_state(&self) -> Result<Vec<[f32; 4]>, GpuError> {
+    /// Copies the three state buffers back, blocking until they arrive;
+    /// a read asked for before is waited for and dropped first (it used
+    /// the same buffer, and is older).
+    fn read_state(&mut self) -> Result<Vec<[f32; 4]>, GpuError> {
+        if let Some(older) = self.pending.take() {
+            self.wait()?;
+            let _ = older.try_take();
+        }
         let readback = self.start_readback();
-        self.context
-            .device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| GpuError::Readback(e.to_string()))?;
+        self.wait()?;
         readback
             .try_take()
             .unwrap_or_else(|| Err(GpuError::Readback("the state did not arrive".into())))
+    }
+
+    /// Waits until the device has run everything handed to it.
+    fn wait(&self) -> Result<(), GpuError> {
+        self.context
+            .device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map(|_| ())
+            .map_err(|e| GpuError::Readback(e.to_string()))
     }
 
     /// Puts `state` (positions, previous positions, velocities) into
@@ -1150,8 +1165,8 @@ impl Backend for GpuBackend {
     }
 
     fn download(&mut self, particles: &mut Particles) {
-        self.pending = None;
-        Self::unpack(self.read_state(), particles);
+        let state = self.read_state();
+        Self::unpack(state, particles);
     }
 
     fn request_download(&mut self) {

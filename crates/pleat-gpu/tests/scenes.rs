@@ -414,3 +414,27 @@ fn a_live_stretch_compliance_changes_both_backends_alike_and_keeps_the_state() {
         "max stretch {mg} on the GPU, {mc} on the CPU"
     );
 }
+
+#[test]
+fn a_blocking_read_after_an_untaken_request_reads_the_current_state() {
+    let scene = scene_file("drape.json");
+    let (mut a, mut b) = (gpu(&scene), gpu(&scene));
+    for sim in [&mut a, &mut b] {
+        for _ in 0..5 {
+            sim.step(scene.frame_dt());
+        }
+    }
+    b.request_sync();
+    for round in 0..3 {
+        for sim in [&mut a, &mut b] {
+            for _ in 0..5 {
+                sim.step(scene.frame_dt());
+            }
+            sim.sync();
+        }
+        assert!(
+            a.particles.x == b.particles.x && a.particles.v == b.particles.v,
+            "read {round}"
+        );
+    }
+}
