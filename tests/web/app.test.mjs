@@ -130,10 +130,9 @@ try {
       const timed = await until(page, "frames to time", (s) => s.frame >= later.frame + 10);
       rates[demo] = { fps: (timed.frame - later.frame) / ((Date.now() - t0) / 1000), particles: timed.particles, device: timed.device };
       const png = await page.screenshot();
-      assert.equal(await notBlank(page, png), true, "the screenshot is blank");
-      if (shots) {
-        fs.writeFileSync(path.join(shots, `${demo}.png`), png);
-      }
+      if (shots) fs.writeFileSync(path.join(shots, `${demo}.png`), png);
+      const blank = await notBlank(page, png);
+      assert.equal(blank, true, `the screenshot is blank: ${JSON.stringify(blank)}`);
     });
   }
 

@@ -2,7 +2,7 @@
 //! (DESIGN.md section 5), as a table or one JSON object a line.
 
 use crate::report::{FrameTimes, StagesMs};
-use crate::{check_backend, use_backend, with_threads};
+use crate::{build_on, check_backend, with_threads};
 use pleat::metrics::stretch;
 use pleat::scene::presets::hanging_cloth;
 use serde::Serialize;
@@ -96,10 +96,7 @@ pub fn bench(args: &BenchArgs) -> Result<ExitCode, String> {
 fn measure(args: &BenchArgs, n: u32) -> Result<BenchLine, String> {
     let mut scene = hanging_cloth(n, args.substeps, args.tethers);
     scene.solver.self_collision.enabled = args.self_collision;
-    let mut sim = scene
-        .build(Path::new("."), &scene.name)
-        .map_err(|e| e.to_string())?;
-    use_backend(&mut sim, &args.backend)?;
+    let mut sim = build_on(&scene, (Path::new("."), &scene.name), &args.backend)?;
     let dt = scene.frame_dt();
     for _ in 0..args.warmup {
         sim.step(dt);

@@ -11,7 +11,9 @@ mod report;
 mod run;
 
 use clap::{Parser, Subcommand};
-use pleat::Simulation;
+use pleat::scene::Scene;
+use pleat::{Backend, CpuBackend, Model, Simulation, SolverSettings, World};
+use std::path::Path;
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -91,20 +93,48 @@ fn check_backend(backend: &str) -> Result<(), String> {
     }
 }
 
-/// Moves `sim` onto the backend named `backend` (`cpu` keeps it where it
-/// is). The GPU backend's notes (mesh colliders baked into distance fields)
-/// go to stderr; no adapter, or a scene feature the GPU lacks, is an error.
+/// The simulation `scene` describes (paths relative to `base_dir`, `file`
+/// naming it in errors) on the backend named `backend`, each built once.
+fn build_on(
+    scene: &Scene,
+    (base_dir, file): (&Path, &str),
+    backend: &str,
+) -> Result<Simulation, String> {
+    check_backend(backend)?;
+    let (model, world) = scene.model(base_dir, file).map_err(|e| e.to_string())?;
+    let backend = backend_for(&model, &world, &scene.solver, backend)?;
+    Ok(scene.simulation(model, world, backend))
+}
+
+/// The backend named `backend` (`cpu` or `gpu`) built for `model` in
+/// `world`. The GPU backend's notes (mesh colliders baked into distance
+/// fields) go to stderr; no adapter, or a scene feature the GPU lacks, is
+/// an error.
+fn backend_for(
+    model: &Model,
+    world: &World,
+    settings: &SolverSettings,
+    backend: &str,
+) -> Result<Box<dyn Backend>, String> {
+    if backend != "gpu" {
+        return Ok(Box::new(CpuBackend::new(model, settings)));
+    }
+    let context = pleat_gpu::GpuContext::new().map_err(|e| e.to_string())?;
+    let (gpu, notes) =
+        pleat_gpu::GpuBackend::new(&context, model, world, settings).map_err(|e| e.to_string())?;
+    for note in notes {
+        eprintln!("note: {note}");
+    }
+    Ok(Box::new(gpu))
+}
+
+/// Moves `sim`, built on the CPU, onto the backend named `backend` (`cpu`
+/// keeps it where it is), for simulations built elsewhere than from a scene.
 fn use_backend(sim: &mut Simulation, backend: &str) -> Result<(), String> {
     check_backend(backend)?;
     if backend == "gpu" {
-        let context = pleat_gpu::GpuContext::new().map_err(|e| e.to_string())?;
-        let (gpu, notes) =
-            pleat_gpu::GpuBackend::new(&context, &sim.model, &sim.world, &sim.settings)
-                .map_err(|e| e.to_string())?;
-        for note in notes {
-            eprintln!("note: {note}");
-        }
-        sim.replace_backend(Box::new(gpu));
+        let gpu = backend_for(&sim.model, &sim.world, &sim.settings, backend)?;
+        sim.replace_backend(gpu);
     }
     Ok(())
 }

@@ -5,7 +5,7 @@
 use crate::output::FrameSink;
 use crate::report::Report;
 use crate::run::{load, rayon_threads, simulate};
-use crate::{check_backend, use_backend, with_threads};
+use crate::{build_on, check_backend, with_threads};
 use pleat::scene::RenderSpec;
 use pleat::Simulation;
 use pleat_gpu::GpuBackend;
@@ -80,8 +80,7 @@ pub fn render(args: &RenderArgs) -> Result<ExitCode, String> {
         scene.frames = frames;
     }
     let settings = args.picture.settings(scene.render.as_ref(), &base_dir)?;
-    let mut sim = scene.build(&base_dir, &file).map_err(|e| e.to_string())?;
-    use_backend(&mut sim, &args.backend)?;
+    let mut sim = build_on(&scene, (&base_dir, &file), &args.backend)?;
     let dir = args
         .out
         .clone()

@@ -4,6 +4,7 @@ struct Bending {
     v: array<u32, 4>,
     rest_angle: f32,
     compliance: f32,
+    slot: u32,
 }
 
 @group(1) @binding(0) var<storage, read_write> items: array<Bending>;
@@ -33,5 +34,5 @@ fn solve(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups)
     if !d.ok {
         return;
     }
-    lambda[j] = project_four(c.v, c.compliance, wrap_angle(d.phi - c.rest_angle), d, lambda[j]);
+    lambda[j] = project_four(c.v, alpha_of(c.compliance, c.slot), wrap_angle(d.phi - c.rest_angle), d, lambda[j]);
 }

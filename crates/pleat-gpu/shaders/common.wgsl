@@ -48,6 +48,9 @@ struct Range {
 @group(0) @binding(1) var<storage, read_write> prev: array<vec4<f32>>;
 @group(0) @binding(2) var<storage, read_write> vel: array<vec4<f32>>;
 @group(0) @binding(3) var<uniform> params: Params;
+// The live compliance table (crate::constraint::compliances), four slots a
+// vector; slot 0 is 1.
+@group(0) @binding(4) var<uniform> compliances: array<vec4<f32>, 256>;
 
 const WORKGROUP: u32 = 256u;
 const PI: f32 = 3.14159265358979;
@@ -64,6 +67,11 @@ fn position(i: u32) -> vec3<f32> {
 
 fn inv_mass(i: u32) -> f32 {
     return pos[i].w;
+}
+
+// alpha~ = compliance * table[slot] / dt^2, rounded as the CPU does.
+fn alpha_of(compliance: f32, slot: u32) -> f32 {
+    return compliance * (params.inv_dt2 * compliances[slot / 4u][slot % 4u]);
 }
 
 fn move_by(i: u32, dx: vec3<f32>) {
@@ -134,15 +142,14 @@ fn dihedral_angle(p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, p3: vec3<f32>) ->
     return r;
 }
 
-// XPBD update of a constraint on four particles with value c and gradient d
-// (crate::constraint::bending::project_four); returns the new multiplier.
-fn project_four(v: array<u32, 4>, compliance: f32, c: f32, d: Dihedral, lambda: f32) -> f32 {
+// XPBD update of a constraint on four particles with value c, gradient d
+// and alpha~ (crate::constraint::bending::project_four); returns the new multiplier.
+fn project_four(v: array<u32, 4>, alpha: f32, c: f32, d: Dihedral, lambda: f32) -> f32 {
     let w0 = inv_mass(v[0]);
     let w1 = inv_mass(v[1]);
     let w2 = inv_mass(v[2]);
     let w3 = inv_mass(v[3]);
     let denom = w0 * dot(d.g0, d.g0) + w1 * dot(d.g1, d.g1) + w2 * dot(d.g2, d.g2) + w3 * dot(d.g3, d.g3);
-    let alpha = compliance * params.inv_dt2;
     if denom + alpha <= 1.17549435e-38 {
         return lambda;
     }

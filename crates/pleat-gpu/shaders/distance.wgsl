@@ -5,6 +5,7 @@ struct Distance {
     b: u32,
     rest_length: f32,
     compliance: f32,
+    slot: u32,
 }
 
 @group(1) @binding(0) var<storage, read_write> items: array<Distance>;
@@ -31,7 +32,7 @@ fn solve(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups)
         return;
     }
     let n = d / len;
-    let alpha = c.compliance * params.inv_dt2;
+    let alpha = alpha_of(c.compliance, c.slot);
     let dlambda = (-(len - c.rest_length) - alpha * lambda[j]) / (w + alpha);
     lambda[j] += dlambda;
     move_by(c.a, n * (wa * dlambda));

@@ -9,6 +9,7 @@ struct Hinge {
     target_angle: f32,
     compliance: f32,
     angle: f32,
+    slot: u32,
 }
 
 @group(1) @binding(0) var<storage, read_write> items: array<Hinge>;
@@ -41,7 +42,7 @@ fn solve(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups)
     }
     let target_angle = clamp(params.progress * h.full_angle, -MAX_TARGET_ANGLE, MAX_TARGET_ANGLE);
     let c = unwrap_angle(h.angle, d.phi) - target_angle;
-    lambda[j] = project_four(h.v, h.compliance, c, d, lambda[j]);
+    lambda[j] = project_four(h.v, alpha_of(h.compliance, h.slot), c, d, lambda[j]);
 }
 
 @compute @workgroup_size(256)

@@ -5,6 +5,7 @@ struct Isometric {
     v: array<u32, 4>,
     k: array<f32, 4>,
     compliance: f32,
+    slot: u32,
 }
 
 @group(1) @binding(0) var<storage, read_write> items: array<Isometric>;
@@ -28,7 +29,7 @@ fn solve(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups)
     let dir = b / value;
     let w = array<f32, 4>(inv_mass(c.v[0]), inv_mass(c.v[1]), inv_mass(c.v[2]), inv_mass(c.v[3]));
     let denom = w[0] * c.k[0] * c.k[0] + w[1] * c.k[1] * c.k[1] + w[2] * c.k[2] * c.k[2] + w[3] * c.k[3] * c.k[3];
-    let alpha = c.compliance * params.inv_dt2;
+    let alpha = alpha_of(c.compliance, c.slot);
     if denom + alpha <= 1.17549435e-38 {
         return;
     }

@@ -9,6 +9,8 @@ struct Distance {
     rest_length: f32,
     // PBD stiffness in [0, 1].
     stiffness: f32,
+    // Unused: Jacobi PBD has no compliance.
+    slot: u32,
 }
 
 @group(1) @binding(0) var<storage, read_write> items: array<Distance>;

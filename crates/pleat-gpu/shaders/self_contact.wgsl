@@ -6,17 +6,22 @@
 // with integer atomics (WGSL has no float atomics; integer sums do not
 // depend on the order, so two runs are bit-identical), then averaged.
 //
-// Triangles are found through their vertices: the cell size is at least an
-// edge plus the thickness, so a triangle within reach of a particle has a
-// vertex in the 27 cells around it, and it is taken through the vertex of
-// lowest index among those, once.
+// Triangles are found through their vertices: a triangle within the
+// thickness of a particle has every vertex within reach of it (the cell
+// size: an edge stretched by half plus the thickness), so the particles of
+// the 27 cells around it farther than that are skipped, and a triangle is
+// taken through its vertex of lowest index, which owns it: once, with no
+// test. Each test rejects on the current positions first; the rest-mesh
+// exclusion, which needs a closest point on the rest triangle, runs only
+// for the few pairs that are in contact.
 
 // grid: [0, B) bucket counts, then their exclusive prefix (bucket starts);
 // [B, 2B) fill counters; [2B, 2B + N) particles sorted by bucket;
 // [2B + N, ...) workgroup sums of the prefix scan.
 @group(1) @binding(0) var<storage, read_write> grid: array<atomic<u32>>;
-// topology: triangles (3 per triangle), then the triangles around each
-// vertex in compressed rows: starts (N + 1), then triangle indices.
+// topology: triangles (3 per triangle), then the triangles each vertex
+// owns (those whose lowest vertex it is) in compressed rows: starts
+// (N + 1), then triangle indices.
 @group(1) @binding(1) var<storage, read_write> topology: array<u32>;
 @group(1) @binding(2) var<storage, read_write> rest: array<vec4<f32>>;
 // Per particle: correction x, y, z in fixed point, and the contact count.
@@ -118,9 +123,10 @@ fn add_correction(i: u32, dx: vec3<f32>) {
     atomicAdd(&accum[4u * i + 3u], 1);
 }
 
-fn near(a: vec3<i32>, b: vec3<i32>) -> bool {
-    let d = abs(a - b);
-    return max(d.x, max(d.y, d.z)) <= 1;
+// Whether particle j is within reach of p (the cell size).
+fn within_reach(j: u32, p: vec3<f32>) -> bool {
+    let d = position(j) - p;
+    return dot(d, d) <= params.contact_cell * params.contact_cell;
 }
 
 // Closest point on triangle abc to p, as barycentric weights (Ericson 2005).
@@ -172,14 +178,14 @@ fn rest_distance_to_triangle(i: u32, t: vec3<u32>) -> f32 {
 // Keeps particle i at the thickness from particle j (j > i: each pair once).
 fn particle_contact(i: u32, j: u32) {
     let h = params.contact_thickness;
-    if j <= i || distance(rest[i].xyz, rest[j].xyz) < 2.0 * h {
+    if j <= i {
         return;
     }
     let d = position(i) - position(j);
     let len = length(d);
     let wi = inv_mass(i);
     let wj = inv_mass(j);
-    if len >= h || len <= 0.0 || wi + wj == 0.0 {
+    if len >= h || len <= 0.0 || wi + wj == 0.0 || distance(rest[i].xyz, rest[j].xyz) < 2.0 * h {
         return;
     }
     let n = d / len;
@@ -208,7 +214,7 @@ fn friction(relative: vec3<f32>, n: vec3<f32>, depth: f32) -> vec3<f32> {
 // with friction on their relative motion.
 fn triangle_contact(i: u32, t: vec3<u32>) {
     let h = params.contact_thickness;
-    if i == t.x || i == t.y || i == t.z || rest_distance_to_triangle(i, t) < 2.0 * h {
+    if i == t.x || i == t.y || i == t.z {
         return;
     }
     let p = position(i);
@@ -217,7 +223,7 @@ fn triangle_contact(i: u32, t: vec3<u32>) {
     let c = position(t.z);
     let bary = closest_barycentric(p, a, b, c);
     let q = bary.x * a + bary.y * b + bary.z * c;
-    if distance(p, q) >= h {
+    if distance(p, q) >= h || rest_distance_to_triangle(i, t) < 2.0 * h {
         return;
     }
     let normal = cross(b - a, c - a);
@@ -254,14 +260,18 @@ fn triangle(k: u32) -> vec3<u32> {
 
 @compute @workgroup_size(256)
 fn contacts(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let i = flat_index(gid, groups);
-    if i >= params.particle_count {
+    let k = flat_index(gid, groups);
+    if k >= params.particle_count {
         return;
     }
-    let home = cell_of(position(i));
-    let around_start = 3u * params.triangle_count;
-    let around = around_start + params.particle_count + 1u;
+    // Particles in bucket order: neighbouring invocations walk the same
+    // cells, so they run the same loops over the same memory.
     let sorted = 2u * params.contact_buckets;
+    let i = atomicLoad(&grid[sorted + k]);
+    let p = position(i);
+    let home = cell_of(p);
+    let owned_start = 3u * params.triangle_count;
+    let owned = owned_start + params.particle_count + 1u;
     for (var dz = -1; dz <= 1; dz++) {
         for (var dy = -1; dy <= 1; dy++) {
             for (var dx = -1; dx <= 1; dx++) {
@@ -271,22 +281,12 @@ fn contacts(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgrou
                 let last = first + atomicLoad(&grid[params.contact_buckets + b]);
                 for (var s = first; s < last; s++) {
                     let j = atomicLoad(&grid[sorted + s]);
-                    if any(cell_of(position(j)) != cell) {
+                    if any(cell_of(position(j)) != cell) || !within_reach(j, p) {
                         continue;
                     }
                     particle_contact(i, j);
-                    for (var a = topology[around_start + j]; a < topology[around_start + j + 1u]; a++) {
-                        let t = triangle(topology[around + a]);
-                        // The triangle's lowest vertex within the 27 cells is the one that takes it.
-                        var lowest = j;
-                        for (var v = 0u; v < 3u; v++) {
-                            if t[v] < lowest && near(cell_of(position(t[v])), home) {
-                                lowest = t[v];
-                            }
-                        }
-                        if lowest == j {
-                            triangle_contact(i, t);
-                        }
+                    for (var a = topology[owned_start + j]; a < topology[owned_start + j + 1u]; a++) {
+                        triangle_contact(i, triangle(topology[owned + a]));
                     }
                 }
             }

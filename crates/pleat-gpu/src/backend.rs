@@ -8,13 +8,14 @@
 
 use crate::context::{GpuContext, GpuError};
 use crate::data::{self, Attachment, Counts, GpuPose, Params, Range};
-use crate::kernels::{workgroups, Kernels, UNIFORM_STRIDE};
+use crate::health::{HealthInputs, HealthWatch, PaperEdges};
+use crate::kernels::{workgroups, Kernels, COMPLIANCE_SLOTS, UNIFORM_STRIDE};
 use crate::readback::Readback;
 use crate::timing::{TimedStage, Timestamps};
 use bytemuck::Pod;
 use glam::Vec3;
 use pleat::collide::ColliderPose;
-use pleat::constraint::DistanceConstraint;
+use pleat::constraint::{Compliances, DistanceConstraint};
 use pleat::mesh::incidence::Incidence;
 use pleat::model::Model;
 use pleat::solver::jacobi::JacobiConstraints;
@@ -76,6 +77,8 @@ struct FrameData {
     params: Vec<u8>,
     targets: Vec<[f32; 4]>,
     poses: Vec<GpuPose>,
+    /// The live compliance table, [`COMPLIANCE_SLOTS`] long.
+    compliances: Vec<f32>,
 }
 
 /// Buffers whose size depends on the number of substeps per frame.
@@ -95,6 +98,8 @@ pub struct GpuBackend {
     pos: wgpu::Buffer,
     prev: wgpu::Buffer,
     vel: wgpu::Buffer,
+    /// The live compliance table (a uniform), written at every frame.
+    compliance_table: wgpu::Buffer,
     /// Lambda buffers, cleared at the start of every substep.
     lambdas: Vec<wgpu::Buffer>,
     ranges: wgpu::Buffer,
@@ -104,8 +109,12 @@ pub struct GpuBackend {
     stages: Stages,
     /// Per-stage GPU times, where the adapter has timestamp queries.
     timestamps: Option<Timestamps>,
+    /// Non-finite values, energy and paper strain after each frame.
+    health: HealthWatch,
     /// A read of the state asked for and not yet taken.
     pending: Option<Readback>,
+    /// The mappable buffer every read of the state goes through.
+    staging: wgpu::Buffer,
     /// What each frame uploads, kept so that a step allocates nothing.
     frame_data: FrameData,
     hard_pins: Vec<pleat::constraint::Attachment>,
@@ -136,7 +145,7 @@ struct KernelBuffers {
 struct SelfContactBuffers {
     /// Bucket counts and starts, fill counters, sorted particles, scan sums.
     grid: wgpu::Buffer,
-    /// Triangles, then the triangles around each vertex (compressed rows).
+    /// Triangles, then the triangles each vertex owns (compressed rows).
     topology: wgpu::Buffer,
     /// Rest positions, for the rest-neighbour exclusion.
     rest: wgpu::Buffer,
@@ -151,13 +160,7 @@ struct SelfContactBuffers {
 const CONTACT_EDGE_STRETCH: f32 = 1.5;
 
 impl SelfContactBuffers {
-    fn new(
-        device: &wgpu::Device,
-        model: &Model,
-        thickness: f32,
-        triangles: &[u32],
-        (start, around): (&[u32], &[u32]),
-    ) -> Self {
+    fn new(device: &wgpu::Device, model: &Model, thickness: f32, triangles: &[u32]) -> Self {
         let n = model.particle_count() as u32;
         let longest = model
             .edges
@@ -166,7 +169,8 @@ impl SelfContactBuffers {
             .fold(0.0, f32::max);
         let buckets = (2 * n).next_power_of_two().max(crate::kernels::WORKGROUP);
         let grid_len = 2 * buckets as u64 + n as u64 + (buckets / crate::kernels::WORKGROUP) as u64;
-        let topology: Vec<u32> = [triangles, start, around].concat();
+        let (start, owned) = owned_triangles(model);
+        let topology: Vec<u32> = [triangles, &start, &owned].concat();
         let rest: Vec<[f32; 4]> = model
             .rest
             .iter()
@@ -181,6 +185,19 @@ impl SelfContactBuffers {
             buckets,
         }
     }
+}
+
+/// Each triangle under its vertex of lowest index, in compressed rows
+/// (starts, then triangles): a particle's contact search takes the
+/// triangles its neighbours own, so it meets each triangle once.
+fn owned_triangles(model: &Model) -> (Vec<u32>, Vec<u32>) {
+    fn lowest(t: &[u32; 3]) -> &[u32] {
+        let k = (0..3).min_by_key(|&k| t[k]).unwrap_or(0);
+        &t[k..k + 1]
+    }
+    let incidence = Incidence::new(&model.triangles, model.particle_count(), lowest);
+    let (start, slots) = incidence.rows();
+    (start.to_vec(), slots.iter().map(|s| s.element).collect())
 }
 
 /// One constraint kind's buffers and its dispatches (by colour).
@@ -217,6 +234,7 @@ impl GpuBackend {
         settings: &SolverSettings,
     ) -> Result<(Self, Vec<String>), GpuError> {
         check_supported(settings)?;
+        check_compliance_slots(model)?;
         let data::Colliders {
             shapes: colliders,
             sdf_values,
@@ -229,6 +247,8 @@ impl GpuBackend {
         let hard_pins = hard.attachments().to_vec();
         let mut table = RangeTable::default();
         let whole = table.push(0, 0);
+        let paper = PaperEdges::of(model);
+        let paper_range = table.push(0, paper.len());
         let projection = match settings.kind {
             SolverKind::JacobiPbd => {
                 jacobi_projection(context, model, soft, hard_pins.len(), &mut table)?
@@ -252,7 +272,6 @@ impl GpuBackend {
                 model,
                 settings.self_collision.thickness,
                 &flat_triangles,
-                (start, &around),
             )
         });
         let buffers = KernelBuffers {
@@ -293,6 +312,12 @@ impl GpuBackend {
             state("previous positions"),
             state("velocities"),
         );
+        let compliance_table = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("compliances"),
+            size: COMPLIANCE_SLOTS as u64 * 4,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
         let kernels = Kernels::new(device);
         let counts = Counts {
             particles: n as u32,
@@ -311,15 +336,26 @@ impl GpuBackend {
         let stages = Stages::new(
             device,
             &kernels,
-            [&pos, &prev, &vel],
+            [&pos, &prev, &vel, &compliance_table],
             &buffers,
             &per_substep,
             &ranges,
         );
+        let health = HealthWatch::new(
+            device,
+            &kernels,
+            HealthInputs {
+                model,
+                paper: &paper,
+                ranges: (&ranges, paper_range.0),
+            },
+        );
         let backend = GpuBackend {
             context: context.clone(),
+            health,
             timestamps: Timestamps::new(device, &context.queue, settings.substeps.max(1)),
             pending: None,
+            staging: crate::readback::staging(device, 3 * n as u64 * PARTICLE_BYTES),
             frame_data: FrameData::default(),
             stages,
             kernels,
@@ -328,6 +364,7 @@ impl GpuBackend {
             pos,
             prev,
             vel,
+            compliance_table,
             lambdas,
             ranges,
             buffers,
@@ -404,7 +441,7 @@ impl Stages {
     fn new(
         device: &wgpu::Device,
         kernels: &Kernels,
-        [pos, prev, vel]: [&wgpu::Buffer; 3],
+        [pos, prev, vel, compliances]: [&wgpu::Buffer; 4],
         b: &KernelBuffers,
         per_substep: &PerSubstep,
         ranges: &wgpu::Buffer,
@@ -417,6 +454,7 @@ impl Stages {
                 entry(1, prev),
                 entry(2, vel),
                 sized_entry(3, &per_substep.params, size_of::<Params>()),
+                entry(4, compliances),
             ],
         });
         let group = |buffers: [&wgpu::Buffer; 4]| {
@@ -545,14 +583,18 @@ impl PerSubstep {
     }
 }
 
-fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+pub(crate) fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
     wgpu::BindGroupEntry {
         binding,
         resource: buffer.as_entire_binding(),
     }
 }
 
-fn sized_entry(binding: u32, buffer: &wgpu::Buffer, size: usize) -> wgpu::BindGroupEntry<'_> {
+pub(crate) fn sized_entry(
+    binding: u32,
+    buffer: &wgpu::Buffer,
+    size: usize,
+) -> wgpu::BindGroupEntry<'_> {
     wgpu::BindGroupEntry {
         binding,
         resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
@@ -564,7 +606,7 @@ fn sized_entry(binding: u32, buffer: &wgpu::Buffer, size: usize) -> wgpu::BindGr
 }
 
 /// A storage buffer holding `items` (16 bytes at least: empty bindings are invalid).
-fn storage<T: Pod>(device: &wgpu::Device, label: &str, items: &[T]) -> wgpu::Buffer {
+pub(crate) fn storage<T: Pod>(device: &wgpu::Device, label: &str, items: &[T]) -> wgpu::Buffer {
     let mut bytes = bytemuck::cast_slice::<T, u8>(items).to_vec();
     bytes.resize(bytes.len().max(16).next_multiple_of(4), 0);
     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -575,7 +617,7 @@ fn storage<T: Pod>(device: &wgpu::Device, label: &str, items: &[T]) -> wgpu::Buf
 }
 
 /// A zeroed storage buffer of `size` bytes (16 at least).
-fn zeroed(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
+pub(crate) fn zeroed(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
         size: size.max(16).next_multiple_of(4),
@@ -799,6 +841,18 @@ fn check_supported(settings: &SolverSettings) -> Result<(), GpuError> {
     Ok(())
 }
 
+/// Refuses more cloths than the live compliance table has slots for.
+fn check_compliance_slots(model: &Model) -> Result<(), GpuError> {
+    let slots = Compliances::of(model).len();
+    if slots > COMPLIANCE_SLOTS {
+        return Err(GpuError::TooLarge(format!(
+            "{} cloths need {slots} compliance slots, more than the {COMPLIANCE_SLOTS} of the GPU backend's table",
+            model.cloths.len()
+        )));
+    }
+    Ok(())
+}
+
 /// Refuses a buffer larger than one binding may be.
 fn check_size(context: &GpuContext, bytes: u64, what: &str) -> Result<(), GpuError> {
     let limit = context.device.limits().max_storage_buffer_binding_size;
@@ -824,7 +878,7 @@ impl GpuBackend {
         self.stages = Stages::new(
             device,
             &self.kernels,
-            [&self.pos, &self.prev, &self.vel],
+            [&self.pos, &self.prev, &self.vel, &self.compliance_table],
             &self.buffers,
             &self.per_substep,
             &self.ranges,
@@ -832,15 +886,23 @@ impl GpuBackend {
     }
 
     /// Writes the parameters, pin targets and collider poses of every
-    /// substep of the frame.
-    fn write_frame(&mut self, world: &World, settings: &SolverSettings, frame_dt: f32) -> u32 {
+    /// substep of the frame, and the live compliances.
+    fn write_frame(
+        &mut self,
+        world: &World,
+        (settings, table): (&SolverSettings, &Compliances),
+        frame_dt: f32,
+    ) -> u32 {
         let substeps = settings.substeps.max(1);
         self.reserve(substeps);
         let FrameData {
             params,
             targets,
             poses,
+            compliances,
         } = &mut self.frame_data;
+        table.write_to(compliances);
+        compliances.resize(COMPLIANCE_SLOTS, 0.0);
         params.clear();
         params.resize((substeps as u64 * UNIFORM_STRIDE) as usize, 0);
         targets.clear();
@@ -868,6 +930,7 @@ impl GpuBackend {
         }
         let queue = &self.context.queue;
         queue.write_buffer(&self.per_substep.params, 0, params);
+        queue.write_buffer(&self.compliance_table, 0, bytemuck::cast_slice(compliances));
         if !targets.is_empty() {
             queue.write_buffer(&self.per_substep.targets, 0, bytemuck::cast_slice(targets));
         }
@@ -937,23 +1000,35 @@ impl GpuBackend {
     fn start_readback(&self) -> Readback {
         let size = self.counts.particles as u64 * PARTICLE_BYTES;
         Readback::start(
-            &self.context.device,
-            &self.context.queue,
+            (&self.context.device, &self.context.queue),
+            &self.staging,
             &[&self.pos, &self.prev, &self.vel],
             size,
         )
     }
 
-    /// Copies the three state buffers back, blocking until they arrive.
-    fn read_state(&self) -> Result<Vec<[f32; 4]>, GpuError> {
+    /// Copies the three state buffers back, blocking until they arrive;
+    /// a read asked for before is waited for and dropped first (it used
+    /// the same buffer, and is older).
+    fn read_state(&mut self) -> Result<Vec<[f32; 4]>, GpuError> {
+        if let Some(older) = self.pending.take() {
+            self.wait()?;
+            let _ = older.try_take();
+        }
         let readback = self.start_readback();
-        self.context
-            .device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| GpuError::Readback(e.to_string()))?;
+        self.wait()?;
         readback
             .try_take()
             .unwrap_or_else(|| Err(GpuError::Readback("the state did not arrive".into())))
+    }
+
+    /// Waits until the device has run everything handed to it.
+    fn wait(&self) -> Result<(), GpuError> {
+        self.context
+            .device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map(|_| ())
+            .map_err(|e| GpuError::Readback(e.to_string()))
     }
 
     /// Puts `state` (positions, previous positions, velocities) into
@@ -1028,13 +1103,14 @@ impl Backend for GpuBackend {
         _particles: &mut Particles,
         world: &mut World,
         settings: &SolverSettings,
+        compliances: &Compliances,
         frame_dt: f32,
         stages: &mut StageTimes,
     ) {
         if let Some(t) = &mut self.timestamps {
             t.collect(stages);
         }
-        let substeps = self.write_frame(world, settings, frame_dt);
+        let substeps = self.write_frame(world, (settings, compliances), frame_dt);
         if let Some(t) = &mut self.timestamps {
             t.begin_frame(substeps);
         }
@@ -1050,10 +1126,17 @@ impl Backend for GpuBackend {
             }
             self.record_substep(&mut encoder, s, world, settings.iterations);
         }
+        let last = (substeps - 1) * UNIFORM_STRIDE as u32;
+        self.health.record(
+            &mut encoder,
+            (&self.stages.state, last),
+            world.time + frame_dt,
+        );
         if let Some(t) = &self.timestamps {
             t.resolve(&mut encoder, substeps);
         }
         self.context.queue.submit([encoder.finish()]);
+        self.health.request();
         if let Some(t) = &mut self.timestamps {
             t.request(substeps);
         }
@@ -1080,8 +1163,8 @@ impl Backend for GpuBackend {
     }
 
     fn download(&mut self, particles: &mut Particles) {
-        self.pending = None;
-        Self::unpack(self.read_state(), particles);
+        let state = self.read_state();
+        Self::unpack(state, particles);
     }
 
     fn request_download(&mut self) {
@@ -1102,6 +1185,11 @@ impl Backend for GpuBackend {
 
     fn as_any(&self) -> &dyn std::any::Any {
         self
+    }
+
+    fn health(&mut self) -> Option<pleat::stability::Health> {
+        let _ = self.context.device.poll(wgpu::PollType::Poll);
+        self.health.collect()
     }
 
     fn upload(&mut self, particles: &Particles) {

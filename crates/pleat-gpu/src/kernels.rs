@@ -1,5 +1,6 @@
 //! The compute pipelines and the two bind group layouts they share:
-//! group 0 the particle state and the substep's parameters, group 1 a
+//! group 0 the particle state, the substep's parameters and the live
+//! compliance table, group 1 a
 //! kernel's own buffers (four storage buffers) and the slice it works on.
 
 use crate::data::{Params, Range};
@@ -12,6 +13,8 @@ pub const WORKGROUP: u32 = 256;
 const MAX_GROUPS: u32 = 65535;
 /// Stride of dynamic uniform offsets (WebGPU's default alignment).
 pub const UNIFORM_STRIDE: u64 = 256;
+/// Slots of the live compliance table (`compliances` in common.wgsl).
+pub const COMPLIANCE_SLOTS: usize = 1024;
 
 /// Workgroups for `count` invocations: along x, then rows of x along y.
 pub fn workgroups(count: u32) -> (u32, u32) {
@@ -43,6 +46,8 @@ pub struct Kernels {
     pub attachment: wgpu::ComputePipeline,
     pub jacobi_correct: wgpu::ComputePipeline,
     pub jacobi_gather: wgpu::ComputePipeline,
+    /// The health reduction: per workgroup, then over the workgroups.
+    pub health: [wgpu::ComputePipeline; 2],
     /// Self-contact kernels in the order they run.
     pub self_contact: [wgpu::ComputePipeline; 8],
 }
@@ -82,6 +87,16 @@ impl Kernels {
                 storage(1),
                 storage(2),
                 dynamic_uniform(3, size_of::<Params>()),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 4,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: wgpu::BufferSize::new(COMPLIANCE_SLOTS as u64 * 4),
+                    },
+                    count: None,
+                },
             ],
         });
         let kernel_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -145,6 +160,10 @@ impl Kernels {
             attachment: pipeline(shaders::ATTACHMENT, "solve", &with_kernel),
             jacobi_correct: pipeline(shaders::JACOBI, "correct", &with_kernel),
             jacobi_gather: pipeline(shaders::JACOBI, "gather", &with_kernel),
+            health: [
+                pipeline(shaders::HEALTH, "reduce_blocks", &with_kernel),
+                pipeline(shaders::HEALTH, "reduce_sums", &with_kernel),
+            ],
             self_contact: shaders::SELF_CONTACT
                 .entry_points
                 .iter()

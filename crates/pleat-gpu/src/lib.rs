@@ -23,6 +23,7 @@
 mod backend;
 mod context;
 mod data;
+mod health;
 mod kernels;
 mod readback;
 pub mod shaders;

@@ -64,8 +64,11 @@ pub const SELF_CONTACT: Module = module!(
     ]
 );
 
+/// The health reduction: non-finite values, energy, paper strain.
+pub const HEALTH: Module = module!("health", ["reduce_blocks", "reduce_sums"]);
+
 /// Every module of the backend.
-pub const ALL: [Module; 12] = [
+pub const ALL: [Module; 13] = [
     PREDICT,
     PINS,
     WIND,
@@ -78,6 +81,7 @@ pub const ALL: [Module; 12] = [
     ATTACHMENT,
     JACOBI,
     SELF_CONTACT,
+    HEALTH,
 ];
 
 impl Module {

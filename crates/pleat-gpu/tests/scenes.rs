@@ -6,8 +6,10 @@ mod common;
 use common::*;
 use glam::Vec3;
 use pleat::constraint::bending::dihedral_angle;
-use pleat::constraint::Grab;
-use pleat::Simulation;
+use pleat::constraint::{ComplianceKind, Compliances, Grab};
+use pleat::stability::{mechanical_energy, paper_edges, Instability};
+use pleat::{Backend, Simulation};
+use pleat_gpu::GpuBackend;
 
 /// The GPU and CPU backends agree after `frames`: mean particle distance
 /// under 1% of the cloth's size, max stretch within 2%.
@@ -78,7 +80,7 @@ fn miura_ori_folds_to_half_like_the_cpu() {
         .paper
         .as_ref()
         .unwrap()
-        .hinge_constraints(cloth, &c.model.rest);
+        .hinge_constraints(cloth, 0, &c.model.rest);
     let angle = |sim: &Simulation, v: [u32; 4]| {
         dihedral_angle(v.map(|i| sim.particles.x[i as usize]))
             .unwrap()
@@ -246,4 +248,193 @@ fn state_read_without_blocking_matches_the_blocking_read() {
         std::thread::yield_now();
     }
     assert!(a.particles.x == b.particles.x && a.particles.v == b.particles.v);
+}
+
+/// A free 8 x 8 sheet falling under gravity.
+const FALLING: &str = r#"{ "name": "falling", "frames": 10, "fps": 60, "solver": { "substeps": 4 },
+    "cloths": [ { "mesh": { "grid": { "resolution": [8, 8], "size": [1.0, 1.0], "orientation": "horizontal", "center": [0.0, 1.0, 0.0] } } } ] }"#;
+
+/// Steps `frames` frames and waits for them, never reading the state back.
+fn step_unread(sim: &mut Simulation, scene: &pleat::scene::Scene, frames: u32) {
+    for _ in 0..frames {
+        sim.step(scene.frame_dt());
+        sim.finish();
+    }
+}
+
+#[test]
+fn instability_is_flagged_on_the_gpu_without_reading_the_state_back() {
+    let scene = scene(FALLING);
+    let mut calm = gpu(&scene);
+    step_unread(&mut calm, &scene, 10);
+    assert_eq!(calm.stability.first, None, "free fall is calm");
+    // Thrown up at 100 m/s: 5000 J/kg against a scale of about 1000.
+    let mut thrown = gpu(&scene);
+    thrown.particles.v.fill(Vec3::new(0.0, 100.0, 0.0));
+    thrown.upload();
+    step_unread(&mut thrown, &scene, 3);
+    assert_eq!(
+        thrown.stability.first,
+        Some((scene.frame_dt(), Instability::Runaway)),
+        "flagged at the first frame's end"
+    );
+    let mut broken = gpu(&scene);
+    broken.particles.v[0].x = f32::NAN;
+    broken.upload();
+    step_unread(&mut broken, &scene, 3);
+    assert_eq!(
+        broken.stability.first.map(|(_, kind)| kind),
+        Some(Instability::NonFinite)
+    );
+    assert_eq!(
+        broken.stability.particle,
+        Some(0),
+        "the first non-finite particle"
+    );
+}
+
+#[test]
+fn the_health_reduction_measures_what_the_core_does() {
+    let scene = scene(
+        r#"{ "name": "miura", "fps": 60, "solver": { "substeps": 10 },
+             "cloths": [ { "mesh": { "pattern": { "builtin": "miura-ori", "size": 1.0 } },
+                           "material": { "density": 0.08, "stretch_compliance": 1e-4, "thickness": 0.0 } } ] }"#,
+    );
+    let (model, mut world) = scene.model(scenes_dir(), "t").unwrap();
+    let (mut backend, _) = GpuBackend::new(context(), &model, &world, &scene.solver).unwrap();
+    let mut particles = pleat::Particles::new(model.rest.clone(), &model.mass);
+    for (i, v) in particles.v.iter_mut().enumerate() {
+        *v = Vec3::new(0.0, 0.0, (i % 7) as f32 * 0.1);
+    }
+    backend.upload(&particles);
+    backend.set_fold_progress(0.8);
+    let mut stages = pleat::solver::StageTimes::default();
+    let mut health = None;
+    let compliances = Compliances::of(&model);
+    for _ in 0..10 {
+        backend.step(
+            &mut particles,
+            &mut world,
+            &scene.solver,
+            &compliances,
+            scene.frame_dt(),
+            &mut stages,
+        );
+        world.time += scene.frame_dt();
+        backend.finish(&mut stages);
+        health = backend.health();
+        assert!(
+            health.is_some(),
+            "each frame's health arrives once it has run"
+        );
+    }
+    let health = health.unwrap();
+    backend.download(&mut particles);
+    let energy = mechanical_energy(&model, &world, &particles);
+    let kinetic = particles.kinetic_energy();
+    assert!(kinetic > 1e-4, "the sheet moves ({kinetic} J)");
+    assert!(
+        (health.mechanical_energy - energy).abs() <= 1e-4 * (kinetic + energy.abs()),
+        "{} J on the GPU, {energy} J on the CPU",
+        health.mechanical_energy
+    );
+    let strain = paper_edges(&model)
+        .map(|e| {
+            particles.x[e.v[0] as usize].distance(particles.x[e.v[1] as usize]) / e.rest_length
+                - 1.0
+        })
+        .fold(f32::MIN, f32::max);
+    assert!(strain > 1e-4, "the folding sheet strains ({strain})");
+    assert!(
+        (health.paper_strain - strain).abs() < 1e-5,
+        "{} vs {strain}",
+        health.paper_strain
+    );
+    assert!(!health.non_finite);
+    assert_eq!(health.time, world.time);
+    let fastest = (0..particles.len()).max_by(|&a, &b| {
+        particles.v[a]
+            .length_squared()
+            .total_cmp(&particles.v[b].length_squared())
+    });
+    assert_eq!(
+        health
+            .culprit
+            .map(|i| particles.v[i as usize].length_squared()),
+        fastest.map(|i| particles.v[i].length_squared())
+    );
+}
+
+/// A 16 x 16 sheet, flat at first, hanging from two corners (no tethers).
+const SWINGING: &str = r#"{ "name": "swinging", "fps": 60, "solver": { "substeps": 10 },
+    "cloths": [ { "mesh": { "grid": { "resolution": [16, 16], "size": [1.0, 1.0], "orientation": "horizontal", "center": [0.0, 1.5, 0.0] } },
+                  "material": { "stretch_compliance": 0.0, "shear_compliance": 1e-6 },
+                  "pins": [ { "corners": ["top_left", "top_right"] } ] } ] }"#;
+
+/// Largest distance between two sets of positions.
+fn largest_move(a: &[Vec3], b: &[Vec3]) -> f32 {
+    a.iter()
+        .zip(b)
+        .map(|(p, q)| p.distance(*q))
+        .fold(0.0, f32::max)
+}
+
+#[test]
+fn a_live_stretch_compliance_changes_both_backends_alike_and_keeps_the_state() {
+    let scene = scene(SWINGING);
+    let mut stiff = cpu(&scene);
+    run(&mut stiff, &scene, 60);
+    let stiff_stretch = stiff.metrics().max_stretch;
+    let (mut c, mut g) = (cpu(&scene), gpu(&scene));
+    for sim in [&mut c, &mut g] {
+        run(sim, &scene, 30);
+        let before = sim.particles.x.clone();
+        let swung = largest_move(&before, &sim.model.rest);
+        *sim.compliances.get_mut(0, ComplianceKind::Stretch).unwrap() = 1e-2;
+        run(sim, &scene, 1);
+        let jump = largest_move(&before, &sim.particles.x);
+        assert!(
+            swung > 0.3 && jump < 0.2 * swung,
+            "{}: the state goes on ({jump} m in a frame, {swung} m from rest)",
+            sim.backend_name()
+        );
+        run(sim, &scene, 29);
+        let soft_stretch = sim.metrics().max_stretch;
+        assert!(
+            soft_stretch > stiff_stretch + 0.05,
+            "{}: softer edges stretch more ({soft_stretch} vs {stiff_stretch})",
+            sim.backend_name()
+        );
+    }
+    let mean = mean_distance(&c, &g);
+    assert!(mean < 0.01, "GPU differs from CPU by {mean} m on average");
+    let (mc, mg) = (c.metrics().max_stretch, g.metrics().max_stretch);
+    assert!(
+        (mg - mc).abs() < 0.02 * mc,
+        "max stretch {mg} on the GPU, {mc} on the CPU"
+    );
+}
+
+#[test]
+fn a_blocking_read_after_an_untaken_request_reads_the_current_state() {
+    let scene = scene_file("drape.json");
+    let (mut a, mut b) = (gpu(&scene), gpu(&scene));
+    for sim in [&mut a, &mut b] {
+        for _ in 0..5 {
+            sim.step(scene.frame_dt());
+        }
+    }
+    b.request_sync();
+    for round in 0..3 {
+        for sim in [&mut a, &mut b] {
+            for _ in 0..5 {
+                sim.step(scene.frame_dt());
+            }
+            sim.sync();
+        }
+        assert!(
+            a.particles.x == b.particles.x && a.particles.v == b.particles.v,
+            "read {round}"
+        );
+    }
 }

@@ -8,13 +8,16 @@
 //! GPU buffer is slow and, in a browser, possible only between turns of the
 //! event loop.
 //!
-//! Parameters a person tunes while the simulation runs (damping, substeps,
-//! gravity, wind, the grabbed particle, fold progress) reach the backend at
-//! every step, by reference: changing one needs no rebuild.
+//! Parameters a person tunes while the simulation runs (compliances,
+//! damping, substeps, gravity, wind, the grabbed particle, fold progress)
+//! reach the backend at every step, by reference: changing one needs no
+//! rebuild.
 
+use crate::constraint::Compliances;
 use crate::model::Model;
 use crate::particles::Particles;
 use crate::solver::{self, Solver, SolverSettings, StageTimes};
+use crate::stability::Health;
 use crate::world::World;
 
 /// `Send` where threads exist; nothing on wasm32, whose WebGPU handles
@@ -42,13 +45,15 @@ pub trait Backend: MaybeSend {
     fn constraint_count(&self) -> usize;
 
     /// Advances the state by `frame_dt` in `world` from `world.time`, with
-    /// the current `settings`. A backend whose state lives elsewhere leaves
-    /// `particles` as they were: [`Backend::download`] brings them up to date.
+    /// the current `settings` and `compliances`. A backend whose state
+    /// lives elsewhere leaves `particles` as they were: [`Backend::download`]
+    /// brings them up to date.
     fn step(
         &mut self,
         particles: &mut Particles,
         world: &mut World,
         settings: &SolverSettings,
+        compliances: &Compliances,
         frame_dt: f32,
         stages: &mut StageTimes,
     );
@@ -79,6 +84,13 @@ pub trait Backend: MaybeSend {
     fn try_download(&mut self, particles: &mut Particles) -> bool {
         self.download(particles);
         true
+    }
+
+    /// The latest [`Health`] summary of the state measured on the device
+    /// that has arrived since the last call, without waiting; `None` from
+    /// a backend that steps in place (the caller checks its particles).
+    fn health(&mut self) -> Option<Health> {
+        None
     }
 
     /// Replaces the backend's state by `particles` (after the caller edited
@@ -122,10 +134,12 @@ impl Backend for CpuBackend {
         particles: &mut Particles,
         world: &mut World,
         settings: &SolverSettings,
+        compliances: &Compliances,
         frame_dt: f32,
         stages: &mut StageTimes,
     ) {
         self.solver.set_settings(settings);
+        self.solver.set_compliances(compliances);
         self.solver.step(particles, world, frame_dt, stages);
     }
 

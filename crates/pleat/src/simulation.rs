@@ -3,7 +3,7 @@
 //! instability.
 
 use crate::backend::{Backend, CpuBackend};
-use crate::constraint::Grab;
+use crate::constraint::{Compliances, Grab};
 use crate::metrics::Metrics;
 use crate::model::Model;
 use crate::origami::FoldRamp;
@@ -21,6 +21,9 @@ pub struct Simulation {
     pub particles: Particles,
     /// Read at every step: substeps, iterations and damping change live.
     pub settings: SolverSettings,
+    /// Read at every step: each cloth's compliances (stretch, shear,
+    /// bending, creases, facets) change live, keeping the state.
+    pub compliances: Compliances,
     pub stages: StageTimes,
     /// Fold progress animated over the first frames (origami); `None`
     /// leaves it where [`Simulation::set_fold_progress`] put it.
@@ -49,7 +52,9 @@ impl Simulation {
         backend: Box<dyn Backend>,
     ) -> Self {
         let particles = Particles::new(model.rest.clone(), &model.mass);
+        let compliances = Compliances::of(&model);
         let mut sim = Simulation {
+            compliances,
             model,
             world,
             particles,
@@ -121,6 +126,7 @@ impl Simulation {
     /// arrived (the state as it was when asked for) and checks it for
     /// instability; says whether [`Simulation::particles`] is now current.
     pub fn try_sync(&mut self) -> bool {
+        self.observe_health();
         if !self.synced && self.backend.try_download(&mut self.particles) {
             self.synced = true;
             self.stability
@@ -132,6 +138,16 @@ impl Simulation {
     /// Waits until the steps handed to the backend have run (GPU timing).
     pub fn finish(&mut self) {
         self.backend.finish(&mut self.stages);
+        self.observe_health();
+    }
+
+    /// Checks the health summary the backend measured on its device, if
+    /// one has arrived (a GPU backend's state is otherwise checked only
+    /// when read back).
+    fn observe_health(&mut self) {
+        if let Some(health) = self.backend.health() {
+            self.stability.observe(&self.model, &self.world, &health);
+        }
     }
 
     /// Hands edited [`Simulation::particles`] back to the backend.
@@ -156,6 +172,7 @@ impl Simulation {
             &mut self.particles,
             &mut self.world,
             &self.settings,
+            &self.compliances,
             frame_dt,
             &mut self.stages,
         );
@@ -166,6 +183,7 @@ impl Simulation {
                 .check(&self.model, &self.world, &self.particles);
         } else {
             self.synced = false;
+            self.observe_health();
         }
     }
 

@@ -16,7 +16,7 @@
 //! whatever their elastic model.
 
 use crate::collide::Motion;
-use crate::model::Model;
+use crate::model::{Model, RestEdge};
 use crate::particles::Particles;
 use crate::world::World;
 use glam::Vec3;
@@ -81,19 +81,48 @@ impl StabilityMonitor {
             return;
         }
         let extent = *self.extent.get_or_insert_with(|| RestExtent::of(model));
-        match instability_within(extent, model, world, particles) {
+        let found = instability_within(extent, model, world, particles);
+        self.record(world.time, found, || culprit(particles));
+    }
+
+    /// Checks a [`Health`] summary measured where the state lives (a GPU
+    /// backend's reduction) by the criteria of [`StabilityMonitor::check`].
+    pub fn observe(&mut self, model: &Model, world: &World, health: &Health) {
+        if self.first.is_some() {
+            return;
+        }
+        let extent = *self.extent.get_or_insert_with(|| RestExtent::of(model));
+        let found = classify(
+            extent,
+            model,
+            world,
+            Measures {
+                non_finite: &|| health.non_finite,
+                torn: &|| health.paper_strain > PAPER_TEAR_STRAIN,
+                energy: &|| health.mechanical_energy,
+            },
+        );
+        self.record(health.time, found, || health.culprit);
+    }
+
+    /// Keeps what was `found` at `time` (a tear only once it lasts).
+    fn record(
+        &mut self,
+        time: f32,
+        found: Option<Instability>,
+        culprit: impl FnOnce() -> Option<u32>,
+    ) {
+        match found {
             Some(Instability::Torn) => {
-                let (since, particle) = *self
-                    .torn_since
-                    .get_or_insert_with(|| (world.time, culprit(particles)));
-                if world.time - since >= TEAR_PERSISTENCE {
+                let (since, particle) = *self.torn_since.get_or_insert_with(|| (time, culprit()));
+                if time - since >= TEAR_PERSISTENCE {
                     self.first = Some((since, Instability::Torn));
                     self.particle = particle;
                 }
             }
             Some(kind) => {
-                self.first = Some((world.time, kind));
-                self.particle = culprit(particles);
+                self.first = Some((time, kind));
+                self.particle = culprit();
             }
             None => self.torn_since = None,
         }
@@ -129,11 +158,38 @@ fn instability_within(
     world: &World,
     particles: &Particles,
 ) -> Option<Instability> {
-    if particles.has_non_finite() || !world.bodies_are_finite() {
+    classify(
+        extent,
+        model,
+        world,
+        Measures {
+            non_finite: &|| particles.has_non_finite(),
+            torn: &|| paper_is_torn(model, particles),
+            energy: &|| mechanical_energy(model, world, particles),
+        },
+    )
+}
+
+/// The three measures of a state the criteria read, each taken only when
+/// the one before it found nothing.
+struct Measures<'a> {
+    non_finite: &'a dyn Fn() -> bool,
+    torn: &'a dyn Fn() -> bool,
+    energy: &'a dyn Fn() -> f32,
+}
+
+/// The instability the measures show, if any: the criteria in one place.
+fn classify(
+    extent: RestExtent,
+    model: &Model,
+    world: &World,
+    m: Measures<'_>,
+) -> Option<Instability> {
+    if (m.non_finite)() || !world.bodies_are_finite() {
         Some(Instability::NonFinite)
-    } else if paper_is_torn(model, particles) {
+    } else if (m.torn)() {
         Some(Instability::Torn)
-    } else if mechanical_energy(model, world, particles)
+    } else if (m.energy)()
         > RUNAWAY_ENERGY * energy_scale(extent, model, world) + extent.crease_energy
     {
         Some(Instability::Runaway)
@@ -142,23 +198,44 @@ fn instability_within(
     }
 }
 
+/// What the instability criteria need from a state, measured where the
+/// state lives (a GPU backend reduces it on the device and reads back only
+/// this), with the simulated time it describes.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Health {
+    /// Simulated time (s) of the state.
+    pub time: f32,
+    /// A position or velocity is NaN or infinite.
+    pub non_finite: bool,
+    /// [`mechanical_energy`] of the state (J).
+    pub mechanical_energy: f32,
+    /// Largest strain (length over rest length, minus one) of an edge of
+    /// paper; zero without paper.
+    pub paper_strain: f32,
+    /// The first non-finite particle, else the fastest.
+    pub culprit: Option<u32>,
+}
+
 /// Whether an edge of a paper part is stretched past [`PAPER_TEAR_STRAIN`].
 fn paper_is_torn(model: &Model, particles: &Particles) -> bool {
+    paper_edges(model).any(|e| {
+        let length = particles.x[e.v[0] as usize].distance(particles.x[e.v[1] as usize]);
+        length > (1.0 + PAPER_TEAR_STRAIN) * e.rest_length
+    })
+}
+
+/// The edges of the model's paper parts, whose stretch is a tear.
+pub fn paper_edges(model: &Model) -> impl Iterator<Item = &RestEdge> {
     let papers: Vec<_> = model
         .cloths
         .iter()
         .filter(|c| c.paper.is_some())
         .map(|c| c.particles())
         .collect();
-    !papers.is_empty()
-        && model
-            .edges
-            .iter()
-            .filter(|e| papers.iter().any(|r| r.contains(&(e.v[0] as usize))))
-            .any(|e| {
-                let length = particles.x[e.v[0] as usize].distance(particles.x[e.v[1] as usize]);
-                length > (1.0 + PAPER_TEAR_STRAIN) * e.rest_length
-            })
+    model
+        .edges
+        .iter()
+        .filter(move |e| papers.iter().any(|r| r.contains(&(e.v[0] as usize))))
 }
 
 /// The energy a scene can plausibly hold (J): `M (|g| L + v^2 / 2)`, with `M`
@@ -284,6 +361,37 @@ mod tests {
             instability(&model, &world, &particles),
             Some(Instability::NonFinite)
         );
+    }
+
+    #[test]
+    fn a_health_summary_is_judged_as_the_state_it_summarises() {
+        let (model, mut particles) = sheet();
+        let world = World {
+            time: 0.5,
+            ..World::default()
+        };
+        let summary = |p: &Particles| Health {
+            time: world.time,
+            non_finite: p.has_non_finite(),
+            mechanical_energy: mechanical_energy(&model, &world, p),
+            paper_strain: 0.0,
+            culprit: Some(4),
+        };
+        let calm = summary(&particles);
+        particles.v[4] = Vec3::new(0.0, 300.0, 0.0);
+        let fast = summary(&particles);
+        particles.v[0].x = f32::NAN;
+        let broken = summary(&particles);
+        for (health, expected) in [
+            (calm, None),
+            (fast, Some(Instability::Runaway)),
+            (broken, Some(Instability::NonFinite)),
+        ] {
+            let mut monitor = StabilityMonitor::default();
+            monitor.observe(&model, &world, &health);
+            assert_eq!(monitor.first, expected.map(|k| (0.5, k)));
+            assert_eq!(monitor.particle, expected.and(Some(4)));
+        }
     }
 
     #[test]

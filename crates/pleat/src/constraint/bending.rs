@@ -23,8 +23,11 @@ pub struct DihedralBending {
     pub v: [u32; 4],
     /// Fold angle at rest (radians).
     pub rest_angle: f32,
-    /// Inverse stiffness (rad^2 / J).
+    /// Inverse stiffness (rad^2 / J), a factor of the table entry `slot`.
     pub compliance: f32,
+    /// Entry of the live compliance table this constraint's compliance is
+    /// a factor of ([`super::compliances`]; slot 0: the compliance as built).
+    pub slot: u32,
 }
 
 /// The signed fold angle of a triangle pair and its gradient with respect to
@@ -105,6 +108,7 @@ impl DihedralBending {
             v,
             rest_angle,
             compliance,
+            slot: 0,
         }
     }
 }
@@ -143,6 +147,10 @@ pub fn project_four(
 impl Constraint for DihedralBending {
     fn particles(&self) -> &[u32] {
         &self.v
+    }
+
+    fn compliance_slot(&self) -> u32 {
+        self.slot
     }
 
     #[inline]
@@ -238,6 +246,7 @@ pub(crate) mod tests {
             v: [0, 1, 2, 3],
             rest_angle: 0.2,
             compliance: 0.0,
+            slot: 0,
         };
         let w = [1.0, 2.0, 1.5, 0.5];
         let com = |x: &[Vec3]| -> Vec3 { (0..4).map(|k| x[k] / w[k]).sum() };

@@ -9,8 +9,11 @@ use glam::Vec3;
 pub struct DistanceConstraint {
     pub v: [u32; 2],
     pub rest_length: f32,
-    /// Inverse stiffness (m/N); zero is inextensible.
+    /// Inverse stiffness (m/N), a factor of the table entry `slot`; zero is inextensible.
     pub compliance: f32,
+    /// Entry of the live compliance table this constraint's compliance is
+    /// a factor of ([`super::compliances`]; slot 0: the compliance as built).
+    pub slot: u32,
 }
 
 impl DistanceConstraint {
@@ -21,6 +24,7 @@ impl DistanceConstraint {
             v,
             rest_length,
             compliance,
+            slot: 0,
         }
     }
 
@@ -35,6 +39,10 @@ impl DistanceConstraint {
 impl Constraint for DistanceConstraint {
     fn particles(&self) -> &[u32] {
         &self.v
+    }
+
+    fn compliance_slot(&self) -> u32 {
+        self.slot
     }
 
     #[inline]
@@ -67,6 +75,7 @@ mod tests {
             v: [0, 1],
             rest_length: 0.7,
             compliance: 0.0,
+            slot: 0,
         };
         let x = [Vec3::new(0.1, 0.2, -0.3), Vec3::new(0.9, -0.4, 0.5)];
         let (_, ga) = c.evaluate(x[0], x[1]).unwrap();
@@ -82,6 +91,7 @@ mod tests {
             v: [0, 1],
             rest_length: 1.0,
             compliance: 0.0,
+            slot: 0,
         };
         let mut lambda = 0.0;
         c.project(

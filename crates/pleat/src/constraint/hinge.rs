@@ -36,11 +36,14 @@ pub struct OrigamiHinge {
     pub full_angle: f32,
     /// Fold angle the hinge is driven to now (radians).
     pub target_angle: f32,
-    /// Inverse stiffness (rad^2 / J).
+    /// Inverse stiffness (rad^2 / J), a factor of the table entry `slot`.
     pub compliance: f32,
     /// Continuous fold angle at the end of the last substep (radians, may
     /// leave `(-pi, pi]`).
     pub angle: f32,
+    /// Entry of the live compliance table this constraint's compliance is
+    /// a factor of ([`super::compliances`]; slot 0: the compliance as built).
+    pub slot: u32,
 }
 
 impl OrigamiHinge {
@@ -52,6 +55,7 @@ impl OrigamiHinge {
             target_angle: 0.0,
             compliance,
             angle: 0.0,
+            slot: 0,
         };
         hinge.track(|i| positions[i as usize]);
         hinge
@@ -94,6 +98,10 @@ impl OrigamiHinge {
 impl Constraint for OrigamiHinge {
     fn particles(&self) -> &[u32] {
         &self.v
+    }
+
+    fn compliance_slot(&self) -> u32 {
+        self.slot
     }
 
     #[inline]

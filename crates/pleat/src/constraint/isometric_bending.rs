@@ -22,7 +22,11 @@ pub struct IsometricBending {
     pub v: [u32; 4],
     /// Cotangent weights divided by the rest edge length.
     pub k: [f32; 4],
+    /// Inverse stiffness, a factor of the table entry `slot`.
     pub compliance: f32,
+    /// Entry of the live compliance table this constraint's compliance is
+    /// a factor of ([`super::compliances`]; slot 0: the compliance as built).
+    pub slot: u32,
 }
 
 impl IsometricBending {
@@ -41,7 +45,12 @@ impl IsometricBending {
         let c04 = cot(-e0, x3 - x1)?;
         let len = e0.length();
         let k = [c03 + c04, c01 + c02, -c01 - c03, -c02 - c04].map(|c| c / len);
-        Some(IsometricBending { v, k, compliance })
+        Some(IsometricBending {
+            v,
+            k,
+            compliance,
+            slot: 0,
+        })
     }
 
     /// `C` and its gradient for the four positions.
@@ -56,6 +65,10 @@ impl IsometricBending {
 impl Constraint for IsometricBending {
     fn particles(&self) -> &[u32] {
         &self.v
+    }
+
+    fn compliance_slot(&self) -> u32 {
+        self.slot
     }
 
     #[inline]

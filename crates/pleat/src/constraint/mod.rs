@@ -7,10 +7,12 @@
 //! `dlambda = (-C - alpha~ lambda) / (sum_i w_i |grad_i C|^2 + alpha~)`,
 //! `alpha~ = alpha / dt^2`, `dx_i = w_i grad_i C dlambda` (Macklin et al. 2016).
 //! Shape matching is the exception: a PBD goal-position projection with a
-//! stiffness factor instead of a compliance.
+//! stiffness factor instead of a compliance. Compliances a person tunes
+//! live come from a table ([`compliances`]) read at every step.
 
 pub mod attachment;
 pub mod bending;
+pub mod compliances;
 pub mod distance;
 pub mod hinge;
 pub mod isometric_bending;
@@ -19,6 +21,7 @@ pub mod tether;
 
 pub use attachment::{Attachment, Grab};
 pub use bending::DihedralBending;
+pub use compliances::{ComplianceKind, Compliances};
 pub use distance::DistanceConstraint;
 pub use hinge::OrigamiHinge;
 pub use isometric_bending::IsometricBending;

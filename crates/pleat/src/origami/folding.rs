@@ -43,7 +43,7 @@ use super::fold::assignment_letter;
 use super::pattern::Assignment;
 use super::sheet::{Hinge, Sheet};
 use crate::constraint::bending::{dihedral_angle, wrap_angle};
-use crate::constraint::OrigamiHinge;
+use crate::constraint::{ComplianceKind, Compliances, OrigamiHinge};
 use crate::material::Material;
 use crate::mesh::Mesh;
 use crate::metrics::strain::facet_strain;
@@ -83,25 +83,31 @@ pub struct Paper {
 }
 
 impl Paper {
-    /// The hinge constraints of `cloth` (global indices) at progress 0;
+    /// The hinge constraints of `cloth` (global indices, the model's cloth
+    /// `index`) at progress 0, their compliances read live from the crease
+    /// and facet slots of the cloth ([`Compliances`]) per unit length;
     /// unassigned hinges get none.
-    pub fn hinge_constraints(&self, cloth: &ClothPart, rest: &[Vec3]) -> Vec<OrigamiHinge> {
+    pub fn hinge_constraints(
+        &self,
+        cloth: &ClothPart,
+        index: usize,
+        rest: &[Vec3],
+    ) -> Vec<OrigamiHinge> {
         self.hinges
             .iter()
             .filter_map(|h| {
                 let full_angle = full_angle(h)?;
                 let v = h.v.map(|i| cloth.global(i));
                 let length = rest[v[0] as usize].distance(rest[v[1] as usize]);
-                let compliance = match h.assignment {
-                    Assignment::Flat => self.stiffness.facet_compliance,
-                    _ => self.stiffness.crease_compliance,
+                let kind = match h.assignment {
+                    Assignment::Flat => ComplianceKind::Facet,
+                    _ => ComplianceKind::Crease,
                 };
-                Some(OrigamiHinge::new(
-                    v,
-                    full_angle,
-                    compliance / length.max(f32::MIN_POSITIVE),
-                    rest,
-                ))
+                let per_length = 1.0 / length.max(f32::MIN_POSITIVE);
+                Some(OrigamiHinge {
+                    slot: Compliances::slot(index, kind),
+                    ..OrigamiHinge::new(v, full_angle, per_length, rest)
+                })
             })
             .collect()
     }
@@ -525,7 +531,7 @@ mod tests {
         let mut model = Model::default();
         model.add_paper("p", &sheet, paper_material(), PaperStiffness::default());
         let paper = model.cloths[0].paper.as_ref().unwrap();
-        let hinges = paper.hinge_constraints(&model.cloths[0], &model.rest);
+        let hinges = paper.hinge_constraints(&model.cloths[0], 0, &model.rest);
         assert_eq!(hinges.len(), sheet.hinges.len());
         let valleys = hinges.iter().filter(|h| h.full_angle > 0.0).count();
         assert_eq!(valleys, 1);

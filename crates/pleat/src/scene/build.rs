@@ -5,6 +5,7 @@ use super::{
     BodySpec, ClothSpec, ColliderSpec, Corner, MeshSpec, MotionSpec, PatternMeshSpec, PinSpec,
     Scene, SceneError, SceneErrors, SceneFiles, ShapeSpec, Side,
 };
+use crate::backend::{Backend, CpuBackend};
 use crate::collide::rigid_body::{mesh_samples, sample_points};
 use crate::collide::{Collider, MassProperties, MeshCollider, Motion, RigidBody, SdfGrid, Shape};
 use crate::mesh::{obj::parse_obj, GridSpec, Mesh};
@@ -32,12 +33,20 @@ impl Scene {
         file: &str,
     ) -> Result<Simulation, SceneErrors> {
         let (model, world) = self.model_with(files, file)?;
+        let backend = Box::new(CpuBackend::new(&model, &self.solver));
+        Ok(self.simulation(model, world, backend))
+    }
+
+    /// The simulation of this scene's `model` and `world` (from
+    /// [`Scene::model`]) on `backend`, built for them: with the scene's
+    /// fold ramp where it has paper.
+    pub fn simulation(&self, model: Model, world: World, backend: Box<dyn Backend>) -> Simulation {
         let folds = model.cloths.iter().any(|c| c.paper.is_some());
-        let mut sim = Simulation::new(model, world, self.solver);
+        let mut sim = Simulation::with_backend(model, world, self.solver, backend);
         if folds {
             sim.fold_ramp = Some(self.fold.unwrap_or_default().ramp());
         }
-        Ok(sim)
+        sim
     }
 
     /// The model and world of this scene, without building a solver.

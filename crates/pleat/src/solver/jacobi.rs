@@ -176,6 +176,7 @@ mod tests {
             v: [0, 1],
             rest_length: 1.0,
             compliance: 0.0,
+            slot: 0,
         };
         let x = [Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0)];
         let [da, db] = correction(&c, 1.0, &x, &[1.0, 3.0]);

@@ -16,6 +16,7 @@ pub use shape_matching::PbdShapeMatching;
 pub use xpbd::Xpbd;
 
 use crate::collide::SelfCollision;
+use crate::constraint::Compliances;
 use crate::model::Model;
 use crate::particles::Particles;
 use crate::world::World;
@@ -148,6 +149,10 @@ pub trait Solver: Send {
         frame_dt: f32,
         stages: &mut StageTimes,
     );
+
+    /// Takes the live compliance table for the next step; solvers without
+    /// compliances ignore it.
+    fn set_compliances(&mut self, _compliances: &Compliances) {}
 
     /// Drives every origami hinge to `c` times its full fold angle; solvers
     /// without hinges ignore it.

@@ -59,6 +59,13 @@ pub trait Constraint: Send + Sync {
     /// Projects the constraint once, updating its Lagrange multiplier.
     /// `alpha_tilde_scale` is `1 / dt^2` of the substep.
     fn project(&self, lambda: &mut f32, x: SharedPositions, inv_mass: &[f32], inv_dt2: f32);
+
+    /// The entry of the live compliance table its compliance is a factor
+    /// of ([`crate::constraint::compliances`]); 0, the compliance as built,
+    /// for constraints that have none.
+    fn compliance_slot(&self) -> u32 {
+        0
+    }
 }
 
 /// Constraints sorted by colour, with one Lagrange multiplier each.
@@ -94,8 +101,10 @@ impl<C: Constraint> ColoredConstraints<C> {
         self.lambda.fill(0.0);
     }
 
-    /// One Gauss-Seidel sweep: colour after colour, each colour in parallel.
-    pub fn solve(&mut self, x: &mut [Vec3], inv_mass: &[f32], inv_dt2: f32) {
+    /// One Gauss-Seidel sweep: colour after colour, each colour in parallel,
+    /// each constraint's compliance scaled by its entry of `compliances`
+    /// (the live table, or [`crate::constraint::compliances::AS_BUILT`]).
+    pub fn solve(&mut self, x: &mut [Vec3], inv_mass: &[f32], inv_dt2: f32, compliances: &[f32]) {
         let shared = SharedPositions::new(x);
         for range in &self.colors {
             let items = &self.items[range.clone()];
@@ -104,7 +113,10 @@ impl<C: Constraint> ColoredConstraints<C> {
                 .par_iter()
                 .zip(lambda.par_iter_mut())
                 .with_min_len(MIN_TASK)
-                .for_each(|(c, l)| c.project(l, shared, inv_mass, inv_dt2));
+                .for_each(|(c, l)| {
+                    let scale = compliances[c.compliance_slot() as usize];
+                    c.project(l, shared, inv_mass, inv_dt2 * scale)
+                });
         }
     }
 }

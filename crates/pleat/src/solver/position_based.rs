@@ -11,6 +11,7 @@ use super::xpbd::{predict, update_velocities};
 use super::{SolverSettings, StageTimes};
 use crate::collide::body_contact::BodyContacts;
 use crate::collide::{project_contacts, ColliderPose};
+use crate::constraint::compliances::AS_BUILT;
 use crate::constraint::Attachment;
 use crate::force::WindForces;
 use crate::model::Model;
@@ -272,7 +273,8 @@ impl PbdLoop {
             let inv_dt2 = 1.0 / (dt * dt);
             for _ in 0..self.settings.iterations {
                 project(p);
-                self.soft_pins.solve(&mut p.x, &p.inv_mass, inv_dt2);
+                self.soft_pins
+                    .solve(&mut p.x, &p.inv_mass, inv_dt2, AS_BUILT);
             }
             if let Some(grab) = &world.grab {
                 grab.project(&mut p.x, &p.inv_mass, dt);

@@ -8,6 +8,7 @@
 use super::parallel::ColoredConstraints;
 use super::position_based::{inverse_masses, PbdLoop};
 use super::{SolverKind, SolverSettings, StageTimes};
+use crate::constraint::compliances::AS_BUILT;
 use crate::constraint::{PairShape, ShapeMatching, TriangleShape};
 use crate::model::{ClothPart, Model};
 use crate::particles::Particles;
@@ -85,8 +86,8 @@ impl super::Solver for PbdShapeMatching {
     ) {
         let (triangles, pairs) = (&mut self.triangles, &mut self.pairs);
         self.frame.step(particles, world, frame_dt, stages, |p| {
-            triangles.solve(&mut p.x, &p.inv_mass, 0.0);
-            pairs.solve(&mut p.x, &p.inv_mass, 0.0);
+            triangles.solve(&mut p.x, &p.inv_mass, 0.0, AS_BUILT);
+            pairs.solve(&mut p.x, &p.inv_mass, 0.0, AS_BUILT);
         });
     }
 }

@@ -11,7 +11,8 @@ use super::springs::skip_one_pairs;
 use super::{SolverKind, SolverSettings, StageTimes};
 use crate::collide::SelfContacts;
 use crate::constraint::{
-    Attachment, DihedralBending, DistanceConstraint, IsometricBending, OrigamiHinge, Tether,
+    Attachment, ComplianceKind, Compliances, DihedralBending, DistanceConstraint, IsometricBending,
+    OrigamiHinge, Tether,
 };
 use crate::material::BendingModel;
 use crate::model::{ClothPart, Model};
@@ -25,6 +26,8 @@ const TETHERS_PER_PARTICLE: usize = 2;
 
 pub struct Xpbd {
     settings: SolverSettings,
+    /// The live compliance table, copied in at every step.
+    compliances: Vec<f32>,
     constraints: XpbdConstraints,
     /// Wind, prediction and the hard pins (attachments with compliance zero).
     prediction: Prediction,
@@ -59,17 +62,17 @@ impl XpbdConstraints {
         let mut isometric = Vec::new();
         let mut hinges = Vec::new();
         let mut tethers = Vec::new();
-        for cloth in &model.cloths {
-            distance.extend(edge_constraints(cloth, &model.rest));
+        for (index, cloth) in model.cloths.iter().enumerate() {
+            distance.extend(edge_constraints(cloth, index, &model.rest));
             if let Some(paper) = &cloth.paper {
-                hinges.extend(paper.hinge_constraints(cloth, &model.rest));
+                hinges.extend(paper.hinge_constraints(cloth, index, &model.rest));
             } else {
                 match cloth.material.bending {
                     BendingModel::Dihedral => {
-                        bending.extend(dihedral_constraints(cloth, &model.rest))
+                        bending.extend(dihedral_constraints(cloth, index, &model.rest))
                     }
                     BendingModel::Isometric => {
-                        for d in dihedral_constraints(cloth, &model.rest) {
+                        for d in dihedral_constraints(cloth, index, &model.rest) {
                             match isometric_if_flat(&d, &model.rest) {
                                 Some(c) => isometric.push(c),
                                 None => bending.push(d),
@@ -77,7 +80,7 @@ impl XpbdConstraints {
                         }
                     }
                     BendingModel::SkipOne => {
-                        distance.extend(skip_one_constraints(cloth, &model.rest))
+                        distance.extend(skip_one_constraints(cloth, index, &model.rest))
                     }
                 }
             }
@@ -126,9 +129,15 @@ impl XpbdConstraints {
     }
 
     /// One substep's projection: `iterations` Gauss-Seidel sweeps from zero
-    /// multipliers with the soft attachments' targets at `t_end`, then the
-    /// hinges' tracked angles.
-    fn project(&mut self, p: &mut Particles, iterations: u32, t_end: f32, dt: f32) {
+    /// multipliers with the soft attachments' targets at `t_end` and the
+    /// live `compliances`, then the hinges' tracked angles.
+    fn project(
+        &mut self,
+        p: &mut Particles,
+        (iterations, compliances): (u32, &[f32]),
+        t_end: f32,
+        dt: f32,
+    ) {
         let inv_dt2 = 1.0 / (dt * dt);
         for a in &mut self.soft_attachments.items {
             a.update_target(t_end);
@@ -139,12 +148,13 @@ impl XpbdConstraints {
         self.hinges.reset_lambda();
         self.soft_attachments.reset_lambda();
         for _ in 0..iterations {
-            self.hinges.solve(&mut p.x, &p.inv_mass, inv_dt2);
-            self.distance.solve(&mut p.x, &p.inv_mass, inv_dt2);
-            self.bending.solve(&mut p.x, &p.inv_mass, inv_dt2);
-            self.isometric.solve(&mut p.x, &p.inv_mass, inv_dt2);
-            self.soft_attachments.solve(&mut p.x, &p.inv_mass, inv_dt2);
-            self.tethers.solve(&mut p.x, &p.inv_mass, inv_dt2);
+            let (x, w) = (&mut p.x, &p.inv_mass);
+            self.hinges.solve(x, w, inv_dt2, compliances);
+            self.distance.solve(x, w, inv_dt2, compliances);
+            self.bending.solve(x, w, inv_dt2, compliances);
+            self.isometric.solve(x, w, inv_dt2, compliances);
+            self.soft_attachments.solve(x, w, inv_dt2, compliances);
+            self.tethers.solve(x, w, inv_dt2, compliances);
         }
         let x = &p.x;
         self.hinges
@@ -160,6 +170,7 @@ impl Xpbd {
         let (prediction, _) = Prediction::new(model);
         Xpbd {
             settings: *settings,
+            compliances: Compliances::of(model).table().collect(),
             constraints: XpbdConstraints::new(model),
             prediction,
             contacts: Contacts::new(model),
@@ -183,7 +194,7 @@ impl Xpbd {
             .run(p, world, self.settings.damping, t, dt, stages);
         StageTimes::time(&mut stages.constraints, || {
             self.constraints
-                .project(p, self.settings.iterations, t + dt, dt);
+                .project(p, (self.settings.iterations, &self.compliances), t + dt, dt);
             if let Some(grab) = &world.grab {
                 grab.project(&mut p.x, &p.inv_mass, dt);
             }
@@ -215,6 +226,10 @@ impl super::Solver for Xpbd {
             self_collision: self.settings.self_collision,
             ..*settings
         };
+    }
+
+    fn set_compliances(&mut self, compliances: &Compliances) {
+        compliances.write_to(&mut self.compliances);
     }
 
     fn set_fold_progress(&mut self, c: f32) {
@@ -258,34 +273,41 @@ pub(super) fn update_velocities(p: &mut Particles, dt: f32) {
         .for_each(|(x, x_prev, v)| *v = (*x - *x_prev) * inv_dt);
 }
 
-/// Stretch and shear constraints on every mesh edge.
+/// Stretch and shear constraints on every mesh edge of cloth `index`,
+/// reading the cloth's live stretch and shear compliances.
 fn edge_constraints<'a>(
     cloth: &'a ClothPart,
+    index: usize,
     rest: &'a [Vec3],
 ) -> impl Iterator<Item = DistanceConstraint> + 'a {
-    let m = &cloth.material;
     cloth.topology.edges.iter().map(move |e| {
-        let compliance = if cloth.mesh.is_grid_diagonal(e.v[0], e.v[1]) {
-            m.shear_compliance
+        let kind = if cloth.mesh.is_grid_diagonal(e.v[0], e.v[1]) {
+            ComplianceKind::Shear
         } else {
-            m.stretch_compliance
+            ComplianceKind::Stretch
         };
-        DistanceConstraint::at_rest(e.v.map(|i| cloth.global(i)), rest, compliance)
+        DistanceConstraint {
+            slot: Compliances::slot(index, kind),
+            ..DistanceConstraint::at_rest(e.v.map(|i| cloth.global(i)), rest, 1.0)
+        }
     })
 }
 
-/// Dihedral bending on every pair of adjacent triangles.
+/// Dihedral bending on every pair of adjacent triangles of cloth `index`,
+/// reading the cloth's live bending compliance.
 fn dihedral_constraints<'a>(
     cloth: &'a ClothPart,
+    index: usize,
     rest: &'a [Vec3],
 ) -> impl Iterator<Item = DihedralBending> + 'a {
-    cloth.topology.pairs.iter().map(move |pair| {
-        DihedralBending::at_rest(
-            pair.v.map(|i| cloth.global(i)),
-            rest,
-            cloth.material.bend_compliance,
-        )
-    })
+    cloth
+        .topology
+        .pairs
+        .iter()
+        .map(move |pair| DihedralBending {
+            slot: Compliances::slot(index, ComplianceKind::Bend),
+            ..DihedralBending::at_rest(pair.v.map(|i| cloth.global(i)), rest, 1.0)
+        })
 }
 
 /// The isometric form of a dihedral constraint whose pair is flat at rest.
@@ -294,18 +316,17 @@ fn isometric_if_flat(d: &DihedralBending, rest: &[Vec3]) -> Option<IsometricBend
     (d.rest_angle.abs() < FLAT)
         .then(|| IsometricBending::at_rest(d.v, rest, d.compliance))
         .flatten()
+        .map(|c| IsometricBending { slot: d.slot, ..c })
 }
 
-/// Skip-one bending: along grid rows and columns, or wing to wing on other meshes.
-fn skip_one_constraints(cloth: &ClothPart, rest: &[Vec3]) -> Vec<DistanceConstraint> {
+/// Skip-one bending: along grid rows and columns, or wing to wing on other
+/// meshes, reading cloth `index`'s live bending compliance.
+fn skip_one_constraints(cloth: &ClothPart, index: usize, rest: &[Vec3]) -> Vec<DistanceConstraint> {
     skip_one_pairs(cloth)
         .into_iter()
-        .map(|v| {
-            DistanceConstraint::at_rest(
-                v.map(|i| cloth.global(i)),
-                rest,
-                cloth.material.bend_compliance,
-            )
+        .map(|v| DistanceConstraint {
+            slot: Compliances::slot(index, ComplianceKind::Bend),
+            ..DistanceConstraint::at_rest(v.map(|i| cloth.global(i)), rest, 1.0)
         })
         .collect()
 }

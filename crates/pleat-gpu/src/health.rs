@@ -1,0 +1,222 @@
+//! The health watch of the GPU backend: after the last substep of a frame
+//! a reduction (`shaders/health.wgsl`) sums the state up as the core's
+//! instability criteria read it ([`pleat::stability::Health`]), and its 32
+//! bytes come back without blocking, as the timestamps do. A frame that
+//! ends while the last result is still on its way is not measured.
+
+use crate::kernels::{workgroups, Kernels};
+use bytemuck::{Pod, Zeroable};
+use pleat::stability::{paper_edges, Health};
+use pleat::Model;
+use std::sync::atomic::{AtomicU8, Ordering};
+use std::sync::Arc;
+
+const PENDING: u8 = 0;
+const ARRIVED: u8 = 1;
+const FAILED: u8 = 2;
+const NONE: u32 = u32::MAX;
+
+/// The reduction's result (`Summary` in health.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+struct Summary {
+    non_finite: u32,
+    first_bad: u32,
+    fastest: u32,
+    speed2: f32,
+    kinetic: f32,
+    potential: f32,
+    strain: f32,
+    pad: u32,
+}
+
+impl Summary {
+    /// The summary as the core's monitor reads it, at simulated time `time`.
+    fn health(&self, time: f32) -> Health {
+        let culprit = [self.first_bad, self.fastest]
+            .into_iter()
+            .find(|&i| i != NONE);
+        Health {
+            time,
+            non_finite: self.non_finite > 0,
+            mechanical_energy: self.kinetic + self.potential,
+            paper_strain: self.strain,
+            culprit,
+        }
+    }
+}
+
+/// A paper edge whose strain counts as a tear (`PaperEdge` in health.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+struct PaperEdge {
+    a: u32,
+    b: u32,
+    rest_length: f32,
+    pad: u32,
+}
+
+/// The paper edges of `model`, as the reduction reads them.
+pub struct PaperEdges(Vec<PaperEdge>);
+
+impl PaperEdges {
+    pub fn of(model: &Model) -> Self {
+        PaperEdges(
+            paper_edges(model)
+                .filter(|e| e.rest_length > 0.0)
+                .map(|e| PaperEdge {
+                    a: e.v[0],
+                    b: e.v[1],
+                    rest_length: e.rest_length,
+                    pad: 0,
+                })
+                .collect(),
+        )
+    }
+
+    pub fn len(&self) -> u32 {
+        self.0.len() as u32
+    }
+}
+
+/// The reduction's buffers and kernels, and its result on the way back.
+pub struct HealthWatch {
+    bind_group: wgpu::BindGroup,
+    pipelines: [wgpu::ComputePipeline; 2],
+    /// Dynamic offset of the range that holds the paper edge count.
+    range_offset: u32,
+    /// Invocations of the first kernel: particles or paper edges, the more.
+    items: u32,
+    result: wgpu::Buffer,
+    readback: wgpu::Buffer,
+    /// Simulated time of the frame being recorded, when it is measured.
+    measuring: Option<f32>,
+    /// Time of the frame whose result is being mapped, and how that goes.
+    in_flight: Option<(f32, Arc<AtomicU8>)>,
+}
+
+/// What [`HealthWatch::new`] binds besides its own buffers.
+pub struct HealthInputs<'a> {
+    pub model: &'a Model,
+    pub paper: &'a PaperEdges,
+    /// The range table and the offset of the paper edges' range in it.
+    pub ranges: (&'a wgpu::Buffer, u32),
+}
+
+impl HealthWatch {
+    pub fn new(device: &wgpu::Device, kernels: &Kernels, inputs: HealthInputs<'_>) -> Self {
+        use crate::backend::{entry, sized_entry, storage, zeroed};
+        let HealthInputs {
+            model,
+            paper,
+            ranges: (ranges, range_offset),
+        } = inputs;
+        let rest: Vec<[f32; 4]> = model
+            .rest
+            .iter()
+            .map(|p| p.extend(0.0).to_array())
+            .collect();
+        let items = (model.particle_count() as u32).max(paper.len());
+        let (x, y) = workgroups(items);
+        let size = size_of::<Summary>() as u64;
+        let rest = storage(device, "rest positions", &rest);
+        let edges = storage(device, "paper edges", &paper.0);
+        let partials = zeroed(device, "health partials", x as u64 * y as u64 * size);
+        let result = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("health"),
+            size,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("health"),
+            layout: &kernels.kernel_layout,
+            entries: &[
+                entry(0, &rest),
+                entry(1, &edges),
+                entry(2, &partials),
+                entry(3, &result),
+                sized_entry(4, ranges, size_of::<crate::data::Range>()),
+            ],
+        });
+        HealthWatch {
+            bind_group,
+            pipelines: kernels.health.clone(),
+            range_offset,
+            items,
+            readback: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("health readback"),
+                size,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            result,
+            measuring: None,
+            in_flight: None,
+        }
+    }
+
+    /// Records the reduction of the state at the end of a frame (simulated
+    /// time `time`), the state bound with the frame's last parameters at
+    /// `params_offset`, unless the last result is still on its way.
+    pub fn record(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        (state, params_offset): (&wgpu::BindGroup, u32),
+        time: f32,
+    ) {
+        if self.in_flight.is_some() {
+            return;
+        }
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("health"),
+                timestamp_writes: None,
+            });
+            pass.set_bind_group(0, state, &[params_offset]);
+            pass.set_bind_group(1, &self.bind_group, &[self.range_offset]);
+            let [blocks, sums] = &self.pipelines;
+            pass.set_pipeline(blocks);
+            let (x, y) = workgroups(self.items);
+            pass.dispatch_workgroups(x, y, 1);
+            pass.set_pipeline(sums);
+            pass.dispatch_workgroups(1, 1, 1);
+        }
+        let size = size_of::<Summary>() as u64;
+        encoder.copy_buffer_to_buffer(&self.result, 0, &self.readback, 0, size);
+        self.measuring = Some(time);
+    }
+
+    /// After the frame's submission: asks for its result, if it was measured.
+    pub fn request(&mut self) {
+        let Some(time) = self.measuring.take() else {
+            return;
+        };
+        let state = Arc::new(AtomicU8::new(PENDING));
+        let callback_state = state.clone();
+        self.readback.map_async(wgpu::MapMode::Read, .., move |r| {
+            callback_state.store(if r.is_ok() { ARRIVED } else { FAILED }, Ordering::Release);
+        });
+        self.in_flight = Some((time, state));
+    }
+
+    /// The result on its way, if it has arrived.
+    pub fn collect(&mut self) -> Option<Health> {
+        let (time, state) = self.in_flight.as_ref()?;
+        let health = match state.load(Ordering::Acquire) {
+            PENDING => return None,
+            ARRIVED => {
+                let summary = self
+                    .readback
+                    .get_mapped_range(..)
+                    .ok()
+                    .map(|data| *bytemuck::from_bytes::<Summary>(&data[..]));
+                self.readback.unmap();
+                summary.map(|s| s.health(*time))
+            }
+            _ => None,
+        };
+        self.in_flight = None;
+        health
+    }
+}
