@@ -118,13 +118,8 @@ impl PleatApp {
     }
 
     fn open(&mut self, scene: Scene, file: String) {
-        match Session::new(
-            scene,
-            file,
-            self.files.clone(),
-            self.backend,
-            self.gpu.clone(),
-        ) {
+        let backend = self.demo.and_then(|d| d.backend).unwrap_or(self.backend);
+        match Session::new(scene, file, self.files.clone(), backend, self.gpu.clone()) {
             Ok(session) => {
                 self.session = Some(session);
                 self.generation += 1;
@@ -181,6 +176,7 @@ impl PleatApp {
             Command::Open(files) => match crate::dropped::scene_from(files, &mut self.files) {
                 Ok((scene, file)) => {
                     self.demo = None;
+                    self.pattern = None;
                     self.probe.demo = file.clone();
                     self.open(scene, file);
                 }

@@ -53,13 +53,13 @@ fn extension(name: &str) -> String {
 
 /// The fold demo's scene with the pattern `name`.
 fn folded(name: &str) -> Result<(Scene, String), String> {
-    let (mut scene, file) = Demo::find("fold")
+    let (mut scene, _) = Demo::find("fold")
         .expect("a fold demo")
         .scene()
         .map_err(|e| e.to_string())?;
     crate::demos::set_pattern(&mut scene, Some(name), None);
     scene.name = name.to_string();
-    Ok((scene, file))
+    Ok((scene, name.to_string()))
 }
 
 /// A cloth draped over the mesh `name`, scaled to fit and set on the ground.

@@ -4,6 +4,7 @@
 //! rebuild that keeps the state (values baked into constraints).
 
 use crate::session::{Pending, Session};
+use pleat::constraint::ComplianceKind;
 use pleat::force::Wind;
 use pleat::scene::MeshSpec;
 use pleat::solver::SolverKind;
@@ -82,19 +83,36 @@ fn each_material(s: &mut Session, f: impl Fn(&mut pleat::Material)) {
     }
 }
 
+/// Sets the compliance `kind` of every cloth, live (the simulation's
+/// table, read at each step) and in the scene (for a reset).
+fn live_compliance(s: &mut Session, kind: ComplianceKind, value: f64) -> Effect {
+    for cloth in 0..s.sim.model.cloths.len() {
+        if let Some(c) = s.sim.compliances.get_mut(cloth, kind) {
+            *c = value as f32;
+        }
+    }
+    for cloth in &mut s.scene.cloths {
+        match (kind, &mut cloth.mesh) {
+            (ComplianceKind::Crease, MeshSpec::Pattern(p)) => {
+                p.stiffness.crease_compliance = value as f32
+            }
+            (ComplianceKind::Facet, MeshSpec::Pattern(p)) => {
+                p.stiffness.facet_compliance = value as f32
+            }
+            (ComplianceKind::Stretch, _) => cloth.material.stretch_compliance = value as f32,
+            (ComplianceKind::Shear, _) => cloth.material.shear_compliance = value as f32,
+            (ComplianceKind::Bend, _) => cloth.material.bend_compliance = value as f32,
+            _ => {}
+        }
+    }
+    Effect::Live
+}
+
 fn paper_stiffness(s: &Session) -> Option<pleat::origami::PaperStiffness> {
     s.scene.cloths.iter().find_map(|c| match &c.mesh {
         MeshSpec::Pattern(p) => Some(p.stiffness),
         _ => None,
     })
-}
-
-fn each_paper(s: &mut Session, f: impl Fn(&mut pleat::origami::PaperStiffness)) {
-    for cloth in &mut s.scene.cloths {
-        if let MeshSpec::Pattern(p) = &mut cloth.mesh {
-            f(&mut p.stiffness);
-        }
-    }
 }
 
 fn wind(s: &mut Session) -> &mut Wind {
@@ -190,10 +208,7 @@ pub const PARAMS: &[Param] = &[
         logarithmic: true,
         integer: false,
         get: |s| first_cloth(s).map(|c| c.material.stretch_compliance as f64),
-        set: |s, v| {
-            each_material(s, |m| m.stretch_compliance = v as f32);
-            Effect::Rebuild
-        },
+        set: |s, v| live_compliance(s, ComplianceKind::Stretch, v),
     },
     Param {
         name: "shear_compliance",
@@ -204,10 +219,7 @@ pub const PARAMS: &[Param] = &[
         logarithmic: true,
         integer: false,
         get: |s| first_cloth(s).map(|c| c.material.shear_compliance as f64),
-        set: |s, v| {
-            each_material(s, |m| m.shear_compliance = v as f32);
-            Effect::Rebuild
-        },
+        set: |s, v| live_compliance(s, ComplianceKind::Shear, v),
     },
     Param {
         name: "bend_compliance",
@@ -218,10 +230,7 @@ pub const PARAMS: &[Param] = &[
         logarithmic: true,
         integer: false,
         get: |s| first_cloth(s).map(|c| c.material.bend_compliance as f64),
-        set: |s, v| {
-            each_material(s, |m| m.bend_compliance = v as f32);
-            Effect::Rebuild
-        },
+        set: |s, v| live_compliance(s, ComplianceKind::Bend, v),
     },
     Param {
         name: "density",
@@ -246,10 +255,7 @@ pub const PARAMS: &[Param] = &[
         logarithmic: true,
         integer: false,
         get: |s| paper_stiffness(s).map(|p| p.crease_compliance as f64),
-        set: |s, v| {
-            each_paper(s, |p| p.crease_compliance = v as f32);
-            Effect::Rebuild
-        },
+        set: |s, v| live_compliance(s, ComplianceKind::Crease, v),
     },
     Param {
         name: "facet_compliance",
@@ -260,10 +266,7 @@ pub const PARAMS: &[Param] = &[
         logarithmic: true,
         integer: false,
         get: |s| paper_stiffness(s).map(|p| p.facet_compliance as f64),
-        set: |s, v| {
-            each_paper(s, |p| p.facet_compliance = v as f32);
-            Effect::Rebuild
-        },
+        set: |s, v| live_compliance(s, ComplianceKind::Facet, v),
     },
     Param {
         name: "friction_static",
@@ -450,9 +453,15 @@ mod tests {
         s.step(1.0 / 60.0);
         let x = s.sim.particles.x.clone();
         set(&mut s, "stretch_compliance", 1e-3).unwrap();
+        assert!(!s.is_pending(), "a compliance is live");
+        assert_eq!(
+            s.sim.compliances.get(0, ComplianceKind::Stretch),
+            Some(1e-3)
+        );
+        set(&mut s, "density", 0.5).unwrap();
         s.poll().unwrap();
         assert_eq!(s.sim.particles.x, x);
-        assert_eq!(s.scene.cloths[0].material.stretch_compliance, 1e-3);
+        assert_eq!(s.scene.cloths[0].material.density, 0.5);
     }
 
     #[test]

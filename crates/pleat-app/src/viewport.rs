@@ -203,16 +203,22 @@ fn grab(
     let grabbed = match (grabbed, primary, pointer) {
         (Some(held), true, Some(_)) => Some(held),
         (None, true, Some(pos)) if response.drag_started() => {
+            // Pick where the button went down: a quick flick (or a slow
+            // frame) may already have moved the pointer off the cloth.
+            let origin = response
+                .ctx
+                .input(|i| i.pointer.press_origin())
+                .unwrap_or(pos);
             let to_pixels =
                 |p: egui::Pos2| Vec2::new((p.x - rect.min.x) * ppp, (p.y - rect.min.y) * ppp);
             nearest_particle(
                 &session.sim.particles.x,
                 renderer,
-                to_pixels(pos),
+                to_pixels(origin),
                 GRAB_RADIUS * ppp,
             )
             .map(|i| {
-                let (eye, _) = ray(pos);
+                let (eye, _) = ray(origin);
                 let depth = (session.sim.particles.x[i as usize] - eye).length();
                 (i, depth)
             })
