@@ -404,13 +404,7 @@ pub const PARAMS: &[Param] = &[
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::demos::{shipped_files, Demo};
-    use crate::session::BackendChoice;
-
-    fn session(id: &str) -> Session {
-        let (scene, file) = Demo::find(id).unwrap().scene().unwrap();
-        Session::new(scene, file, shipped_files(), BackendChoice::Cpu, None).unwrap()
-    }
+    use crate::session::demo_on_cpu as session;
 
     #[test]
     fn every_parameter_reads_back_what_was_set() {

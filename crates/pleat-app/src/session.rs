@@ -4,7 +4,7 @@
 //! state can only be read between frames, so nothing here ever blocks).
 
 use pleat::scene::{InMemory, Scene, SceneErrors};
-use pleat::Simulation;
+use pleat::{Backend, CpuBackend, Model, Simulation, SolverSettings, World};
 use pleat_gpu::{GpuBackend, GpuContext};
 
 /// Which backend steps the simulation.
@@ -56,7 +56,7 @@ impl Session {
         backend: BackendChoice,
         gpu: Option<GpuContext>,
     ) -> Result<Self, SceneErrors> {
-        let mut sim = scene.build_with(&files, &file)?;
+        let (mut sim, used, notice) = build(&scene, &files, &file, backend, gpu.as_ref())?;
         let (fold_target, fold_speed) = match sim.fold_ramp.take() {
             Some(ramp) => (
                 ramp.progress,
@@ -64,20 +64,18 @@ impl Session {
             ),
             None => (0.0, 0.0),
         };
-        let mut session = Session {
+        Ok(Session {
             scene,
             file,
             files,
             sim,
-            backend: BackendChoice::Cpu,
-            notice: None,
+            backend: used,
+            notice,
             fold_target,
             fold_speed,
             pending: None,
             gpu,
-        };
-        session.move_to(backend);
-        Ok(session)
+        })
     }
 
     /// Whether the model is paper (a crease pattern) that folds.
@@ -132,7 +130,13 @@ impl Session {
 
     /// Rebuilds from the edited scene, keeping the state (same particles).
     fn rebuild(&mut self) -> Result<(), SceneErrors> {
-        let mut sim = self.scene.build_with(&self.files, &self.file)?;
+        let (mut sim, used, notice) = build(
+            &self.scene,
+            &self.files,
+            &self.file,
+            self.backend,
+            self.gpu.as_ref(),
+        )?;
         sim.fold_ramp = None;
         if sim.particles.len() == self.sim.particles.len() {
             sim.particles = self.sim.particles.clone();
@@ -141,9 +145,8 @@ impl Session {
             sim.upload();
         }
         self.sim = sim;
-        let choice = self.backend;
-        self.backend = BackendChoice::Cpu;
-        self.move_to(choice);
+        self.backend = used;
+        self.notice = notice;
         Ok(())
     }
 
@@ -158,20 +161,14 @@ impl Session {
                 self.backend = BackendChoice::Cpu;
             }
             BackendChoice::Gpu => {
-                let Some(context) = &self.gpu else {
-                    self.notice = Some(
-                        "this adapter has no compute shaders (WebGL?): running on the CPU".into(),
-                    );
-                    return;
-                };
                 let sim = &self.sim;
-                match GpuBackend::new(context, &sim.model, &sim.world, &sim.settings) {
-                    Ok((gpu, notes)) => {
-                        self.sim.replace_backend(Box::new(gpu));
+                match gpu_backend(self.gpu.as_ref(), &sim.model, &sim.world, &sim.settings) {
+                    Ok((gpu, notice)) => {
+                        self.sim.replace_backend(gpu);
                         self.backend = BackendChoice::Gpu;
-                        self.notice = (!notes.is_empty()).then(|| notes.join("; "));
+                        self.notice = notice;
                     }
-                    Err(e) => self.notice = Some(format!("GPU backend refused: {e}; on the CPU")),
+                    Err(reason) => self.notice = Some(reason),
                 }
             }
         }
@@ -187,15 +184,65 @@ impl Session {
     }
 }
 
+/// The demo `id` on the CPU, for tests.
+/// The scene's simulation on the backend `choice` (built once), or on the
+/// CPU with the reason when the GPU cannot take it; the backend used and
+/// a notice for the panel.
+fn build(
+    scene: &Scene,
+    files: &InMemory,
+    file: &str,
+    choice: BackendChoice,
+    gpu: Option<&GpuContext>,
+) -> Result<(Simulation, BackendChoice, Option<String>), SceneErrors> {
+    let (model, world) = scene.model_with(files, file)?;
+    let gpu = match choice {
+        BackendChoice::Cpu => Err(None),
+        BackendChoice::Gpu => gpu_backend(gpu, &model, &world, &scene.solver).map_err(Some),
+    };
+    Ok(match gpu {
+        Ok((backend, notice)) => (
+            scene.simulation(model, world, backend),
+            BackendChoice::Gpu,
+            notice,
+        ),
+        Err(reason) => {
+            let cpu = Box::new(CpuBackend::new(&model, &scene.solver));
+            (
+                scene.simulation(model, world, cpu),
+                BackendChoice::Cpu,
+                reason,
+            )
+        }
+    })
+}
+
+/// The GPU backend for `model`, with the notes of its building, or why
+/// there is none (no compute shaders, a feature it does not have).
+fn gpu_backend(
+    context: Option<&GpuContext>,
+    model: &Model,
+    world: &World,
+    settings: &SolverSettings,
+) -> Result<(Box<dyn Backend>, Option<String>), String> {
+    let context =
+        context.ok_or("this adapter has no compute shaders (WebGL?): running on the CPU")?;
+    let (gpu, notes) = GpuBackend::new(context, model, world, settings)
+        .map_err(|e| format!("GPU backend refused: {e}; on the CPU"))?;
+    Ok((Box::new(gpu), (!notes.is_empty()).then(|| notes.join("; "))))
+}
+
+#[cfg(test)]
+pub fn demo_on_cpu(id: &str) -> Session {
+    use crate::demos::{shipped_files, Demo};
+    let (scene, file) = Demo::find(id).unwrap().scene().unwrap();
+    Session::new(scene, file, shipped_files(), BackendChoice::Cpu, None).unwrap()
+}
+
 #[cfg(test)]
 mod tests {
+    use super::demo_on_cpu as session;
     use super::*;
-    use crate::demos::{shipped_files, Demo};
-
-    fn session(id: &str) -> Session {
-        let (scene, file) = Demo::find(id).unwrap().scene().unwrap();
-        Session::new(scene, file, shipped_files(), BackendChoice::Cpu, None).unwrap()
-    }
 
     #[test]
     fn a_rebuild_keeps_the_state() {

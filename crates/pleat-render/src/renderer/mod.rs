@@ -522,14 +522,7 @@ impl Renderer {
         positions: Positions<'_>,
         world: &World,
     ) -> Result<RgbaImage, RenderError> {
-        let positions = self.positions_buffer(positions)?;
-        self.upload_meshes(world);
-        let mut encoder = self
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("frame"),
-            });
-        self.encode(&mut encoder, &positions);
+        let mut encoder = self.encode_frame(positions, world)?;
         let strain = self.settings.view == View::Strain && self.particles > 0;
         if strain {
             encoder.copy_buffer_to_buffer(
@@ -567,6 +560,17 @@ impl Renderer {
     /// where waiting for the pixels would stall (WebGPU cannot wait at all).
     /// Legends are the window's to draw.
     pub fn draw(&mut self, positions: Positions<'_>, world: &World) -> Result<(), RenderError> {
+        let encoder = self.encode_frame(positions, world)?;
+        self.queue.submit([encoder.finish()]);
+        Ok(())
+    }
+
+    /// Uploads the frame's meshes and records its passes.
+    fn encode_frame(
+        &mut self,
+        positions: Positions<'_>,
+        world: &World,
+    ) -> Result<wgpu::CommandEncoder, RenderError> {
         let positions = self.positions_buffer(positions)?;
         self.upload_meshes(world);
         let mut encoder = self
@@ -575,8 +579,7 @@ impl Renderer {
                 label: Some("frame"),
             });
         self.encode(&mut encoder, &positions);
-        self.queue.submit([encoder.finish()]);
-        Ok(())
+        Ok(encoder)
     }
 
     /// The texture frames are drawn into (sRGB, `width` x `height`, can be

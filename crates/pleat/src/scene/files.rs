@@ -28,7 +28,7 @@ impl Folder<'_> {
 
 impl SceneFiles for Folder<'_> {
     fn read(&self, path: &str) -> Result<Vec<u8>, String> {
-        std::fs::read(self.join(path)).map_err(|e| format!("cannot read: {e}"))
+        std::fs::read(self.join(path)).map_err(|e| format!("cannot open the file: {e}"))
     }
 
     fn display(&self, path: &str) -> String {
@@ -95,6 +95,9 @@ mod tests {
     fn folder_names_the_full_path() {
         let folder = Folder(Path::new("/nonexistent"));
         assert_eq!(folder.display("a.obj"), "/nonexistent/a.obj");
-        assert!(folder.read("a.obj").unwrap_err().starts_with("cannot read"));
+        assert!(folder
+            .read("a.obj")
+            .unwrap_err()
+            .starts_with("cannot open the file"));
     }
 }
