@@ -79,12 +79,7 @@ async function notBlank(page, png) {
   return stats.colours > 50 && stats.deviation > 10 ? true : stats;
 }
 
-if (shots) fs.mkdirSync(shots, { recursive: true });
-const server = await serve(dist);
-const base = `http://127.0.0.1:${server.address().port}/`;
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium",
-  args: [
+const LAUNCH_ARGS = [
     // WebGPU on SwiftShader's Vulkan (without a GPU): with these the
     // WebGPU canvas is composited, so screenshots show it.
     "--no-sandbox", "--enable-unsafe-webgpu", "--enable-features=Vulkan",
@@ -92,7 +87,13 @@ const browser = await chromium.launch({
     // No calls to the outside.
     "--disable-background-networking", "--disable-component-update", "--disable-sync",
     "--disable-quic", "--no-first-run",
-  ],
+];
+if (shots) fs.mkdirSync(shots, { recursive: true });
+const server = await serve(dist);
+const base = `http://127.0.0.1:${server.address().port}/`;
+const browser = await chromium.launch({
+  executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium",
+  args: LAUNCH_ARGS,
 });
 const page = await browser.newPage({ viewport: { width: 1024, height: 640 } });
 const logs = [];
@@ -197,6 +198,28 @@ try {
     });
     const opened = await until(page, "the pattern", (s) => s.demo === "x.cp" && s.frame >= 10);
     assert.ok(opened.particles >= 5, JSON.stringify(opened));
+  });
+  await check("without WebGPU the app runs on WebGL2 and the CPU, and says so", async () => {
+    const webgl = await chromium.launch({
+      executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium",
+      // No --enable-unsafe-webgpu: no WebGPU adapter, WebGL2 on SwiftShader.
+      args: LAUNCH_ARGS.filter((a) => a !== "--enable-unsafe-webgpu"),
+    });
+    try {
+      const plain = await webgl.newPage({ viewport: { width: 1024, height: 640 } });
+      await plain.goto(`${base}?demo=wind`);
+      const s = await until(plain, "the app on WebGL2", (s) => s.frame >= 10);
+      assert.equal(s.backend, "cpu");
+      assert.match(s.notice ?? "", /no compute shaders/);
+      assert.equal(s.last_error, null);
+      assert.ok(!s.unstable && Number.isFinite(s.max_stretch));
+      const png = await plain.screenshot({ timeout: 120000 });
+      if (shots) fs.writeFileSync(path.join(shots, "webgl.png"), png);
+      const blank = await notBlank(plain, png);
+      assert.equal(blank, true, `the screenshot is blank: ${JSON.stringify(blank)}`);
+    } finally {
+      await webgl.close();
+    }
   });
 } finally {
   if (shots) fs.writeFileSync(path.join(shots, "fps.json"), JSON.stringify(rates, null, 2));

@@ -3,6 +3,7 @@
 //! the GPU: state comes back between frames ([`Session::poll`]).
 
 use crate::demos::{shipped_files, Demo, PatternChoice};
+use crate::platform::Inbox;
 use crate::plot::History;
 use crate::probe::Probe;
 use crate::session::{BackendChoice, Session};
@@ -11,7 +12,6 @@ use eframe::egui;
 use pleat::scene::{InMemory, Scene};
 use pleat::solver::StageTimes;
 use pleat_gpu::GpuContext;
-use std::sync::{Arc, Mutex};
 use web_time::Instant;
 
 /// Frames over which the per-stage timings are averaged.
@@ -52,10 +52,6 @@ pub enum Command {
     Open(Vec<(String, Vec<u8>)>),
 }
 
-/// Files read since the last frame (dropped files arrive asynchronously in
-/// a browser), as (name, bytes or why they could not be read).
-pub type Inbox = Arc<Mutex<Vec<(String, Result<Vec<u8>, String>)>>>;
-
 pub struct PleatApp {
     pub session: Option<Session>,
     pub demo: Option<Demo>,
@@ -67,7 +63,9 @@ pub struct PleatApp {
     pub history: History,
     pub stage_window: StageTimes,
     pub stage_frames: Option<u32>,
-    /// Counts the sessions built: the view rebuilds its renderer on a change.
+    /// Counts the scenes opened (the view frames each anew) and the models
+    /// built, rebuilds included (the view rebuilds its renderer).
+    opened: u64,
     generation: u64,
     gpu: Option<GpuContext>,
     backend: BackendChoice,
@@ -94,6 +92,7 @@ impl PleatApp {
             history: History::default(),
             stage_window: StageTimes::default(),
             stage_frames: None,
+            opened: 0,
             generation: 0,
             gpu,
             backend: options.backend,
@@ -122,6 +121,7 @@ impl PleatApp {
         match Session::new(scene, file, self.files.clone(), backend, self.gpu.clone()) {
             Ok(session) => {
                 self.session = Some(session);
+                self.opened += 1;
                 self.generation += 1;
                 self.history.clear();
                 self.stage_frames = None;
@@ -203,7 +203,17 @@ impl PleatApp {
             glb.push_frame(x).and_then(|()| glb.write(&mut bytes))
         };
         written.map_err(|e| format!("export failed: {e}"))?;
-        let name = format!("{}.{format}", session.scene.name);
+        // The scene's name may come from a dropped file: keep it a plain name.
+        let stem: String = (session.scene.name.chars())
+            .map(|c| {
+                if c.is_alphanumeric() || "-_".contains(c) {
+                    c
+                } else {
+                    '_'
+                }
+            })
+            .collect();
+        let name = format!("{stem}.{format}");
         crate::platform::save(&name, &bytes)
     }
 
@@ -242,11 +252,10 @@ impl PleatApp {
             session.step(1.0 / session.scene.fps);
             self.probe.frame += 1;
             self.step_once = false;
-        }
-        let stages = &mut session.sim.stages;
-        if self.probe.frame % u64::from(STAGE_WINDOW) == 0 && self.probe.frame > 0 {
-            self.stage_window = std::mem::take(stages);
-            self.stage_frames = Some(STAGE_WINDOW);
+            if self.probe.frame % u64::from(STAGE_WINDOW) == 0 {
+                self.stage_window = std::mem::take(&mut session.sim.stages);
+                self.stage_frames = Some(STAGE_WINDOW);
+            }
         }
         self.probe.observe(session);
         self.history.push(self.probe.max_stretch, self.probe.energy);
@@ -298,7 +307,11 @@ impl eframe::App for PleatApp {
                 ui.label("no scene is open");
                 return;
             };
-            if let Err(e) = self.viewport.show(ui, state, session, self.generation) {
+            let compute = self.gpu.is_some();
+            if let Err(e) =
+                self.viewport
+                    .show(ui, state, session, [self.opened, self.generation], compute)
+            {
                 self.probe.last_error = Some(e);
             }
         });

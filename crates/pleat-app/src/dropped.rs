@@ -77,7 +77,7 @@ fn draped_over(name: &str, files: &InMemory) -> Result<(Scene, String), String> 
     let translate = [-centre.x, -lo.y * scale, -centre.z];
     let json = format!(
         r#"{{
-  "name": {name:?},
+  "name": {json_name},
   "solver": {{ "kind": "xpbd", "substeps": 10, "iterations": 1, "damping": 0.1 }},
   "cloths": [{{
     "name": "sheet",
@@ -85,10 +85,11 @@ fn draped_over(name: &str, files: &InMemory) -> Result<(Scene, String), String> 
     "material": {{ "density": 0.2, "stretch_compliance": 0.0, "shear_compliance": 1e-6, "bend_compliance": 1.0, "thickness": 0.005 }}
   }}],
   "colliders": [
-    {{ "shape": {{ "sdf": {{ "path": {name:?}, "scale": {scale}, "translate": [{tx}, {ty}, {tz}], "cell_size": 0.01 }} }}, "friction": {{ "static": 0.5, "kinetic": 0.4 }} }},
+    {{ "shape": {{ "sdf": {{ "path": {json_name}, "scale": {scale}, "translate": [{tx}, {ty}, {tz}], "cell_size": 0.01 }} }}, "friction": {{ "static": 0.5, "kinetic": 0.4 }} }},
     {{ "shape": {{ "plane": {{}} }}, "friction": {{ "static": 0.6, "kinetic": 0.5 }} }}
   ]
 }}"#,
+        json_name = serde_json::Value::from(name),
         height = (hi.y - lo.y) * scale + 0.15,
         tx = translate[0],
         ty = translate[1],

@@ -19,6 +19,7 @@ mod platform;
 mod plot;
 pub mod probe;
 pub mod session;
+mod software;
 mod viewport;
 
 pub use app::{Options, PleatApp};
@@ -32,14 +33,22 @@ use std::sync::Arc;
 pub fn wgpu_options() -> eframe::egui_wgpu::WgpuConfiguration {
     use eframe::egui_wgpu::{WgpuConfiguration, WgpuSetup, WgpuSetupCreateNew};
     let mut setup = WgpuSetupCreateNew::without_display_handle();
-    setup.device_descriptor = Arc::new(|adapter| wgpu::DeviceDescriptor {
-        label: Some("pleat-app"),
-        required_features: adapter.features() & wgpu::Features::TIMESTAMP_QUERY,
-        required_limits: wgpu::Limits {
-            max_texture_dimension_2d: adapter.limits().max_texture_dimension_2d.min(8192),
-            ..pleat_gpu::GpuContext::limits(&adapter.limits())
-        },
-        ..Default::default()
+    setup.device_descriptor = Arc::new(|adapter| {
+        // WebGL2 (no compute) cannot give WebGPU's limits.
+        let base = if adapter.get_info().backend == wgpu::Backend::Gl {
+            wgpu::Limits::downlevel_webgl2_defaults()
+        } else {
+            pleat_gpu::GpuContext::limits(&adapter.limits())
+        };
+        wgpu::DeviceDescriptor {
+            label: Some("pleat-app"),
+            required_features: adapter.features() & wgpu::Features::TIMESTAMP_QUERY,
+            required_limits: wgpu::Limits {
+                max_texture_dimension_2d: adapter.limits().max_texture_dimension_2d.min(8192),
+                ..base
+            },
+            ..Default::default()
+        }
     });
     WgpuConfiguration {
         wgpu_setup: WgpuSetup::CreateNew(setup),

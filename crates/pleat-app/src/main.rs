@@ -47,10 +47,11 @@ mod native {
 
     fn parse_size(s: &str) -> Result<[f32; 2], String> {
         let (w, h) = s.split_once('x').ok_or("give WIDTHxHEIGHT")?;
-        Ok([
-            w.parse().map_err(|e| format!("{e}"))?,
-            h.parse().map_err(|e| format!("{e}"))?,
-        ])
+        let side = |s: &str| match s.parse::<f32>() {
+            Ok(v) if v.is_finite() && v >= 1.0 => Ok(v),
+            _ => Err(format!("'{s}' is not a size in points")),
+        };
+        Ok([side(w)?, side(h)?])
     }
 
     fn options(args: &Args) -> Result<Options, String> {
@@ -92,6 +93,8 @@ mod native {
         frames: u64,
         path: PathBuf,
         requested: bool,
+        /// App frames drawn: a run whose scene never opens gives up.
+        drawn: u64,
         result: Arc<Mutex<Option<Result<(), String>>>>,
         state: Arc<Mutex<String>>,
     }
@@ -101,6 +104,14 @@ mod native {
             self.app.ui(ui, frame);
             *self.state.lock().expect("state") = self.app.probe.to_json();
             let ctx = ui.ctx().clone();
+            self.drawn += 1;
+            if self.drawn > self.frames * 20 + 600 && !self.requested {
+                let why = self.app.probe.last_error.clone().unwrap_or_default();
+                *self.result.lock().expect("result") = Some(Err(format!(
+                    "no frames after {} app frames: {why}",
+                    self.drawn
+                )));
+            }
             if self.result.lock().expect("result").is_some() {
                 ctx.send_viewport_cmd(egui::ViewportCommand::Close);
             } else if !self.requested && self.app.probe.frame >= self.frames {
@@ -155,6 +166,7 @@ mod native {
                         frames,
                         path,
                         requested: false,
+                        drawn: 0,
                         result: shot_result,
                         state: shot_state,
                     }),

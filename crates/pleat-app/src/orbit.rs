@@ -4,8 +4,9 @@
 use glam::{Mat4, Vec2, Vec3, Vec4Swizzles};
 use pleat_render::Camera;
 
-/// Steepest pitch (radians): the camera never looks straight down.
-const MAX_PITCH: f32 = 1.5;
+/// Steepest pitch (radians): the camera never looks straight down, and
+/// stays below asin(0.99), where `Camera::view_proj` changes its up vector.
+const MAX_PITCH: f32 = 1.4;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Orbit {

@@ -160,16 +160,22 @@ fn parameters(ui: &mut egui::Ui, app: &mut PleatApp, section: Section, title: &s
         .show(ui, |ui| {
             for (param, value) in shown {
                 let mut edited = value;
+                // Values outside the range (a scene may have them) stay until edited.
                 let slider = egui::Slider::new(&mut edited, param.min..=param.max)
                     .logarithmic(param.logarithmic)
+                    .clamping(egui::SliderClamping::Edits)
                     .text(param.label);
                 let slider = if param.integer {
                     slider.integer()
                 } else {
                     slider.custom_formatter(|v, _| format_value(v))
                 };
-                if ui.add(slider).changed() && edited != value {
-                    param.apply(session, edited);
+                // A change that rebuilds waits for the slider's release.
+                let response = ui.add(slider);
+                if response.changed() && edited != value {
+                    param.apply(session, edited, !response.dragged());
+                } else if response.drag_stopped() {
+                    param.apply(session, value, true);
                 }
             }
         });

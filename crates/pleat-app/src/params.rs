@@ -45,13 +45,15 @@ pub struct Param {
 }
 
 impl Param {
-    /// Sets the parameter to `value` (clamped to its range).
-    pub fn apply(&self, session: &mut Session, value: f64) {
+    /// Sets the parameter to `value` (clamped to its range). A value baked
+    /// into constraints goes into the scene at once and into the simulation
+    /// (by a rebuild) once `settled`: not at every step of a slider's drag.
+    pub fn apply(&self, session: &mut Session, value: f64, settled: bool) {
         let mut value = value.clamp(self.min, self.max);
         if self.integer {
             value = value.round();
         }
-        if (self.set)(session, value) == Effect::Rebuild {
+        if (self.set)(session, value) == Effect::Rebuild && settled {
             session.request(Pending::Rebuild);
         }
     }
@@ -69,12 +71,16 @@ pub fn set(session: &mut Session, name: &str, value: f64) -> Result<(), String> 
     if (param.get)(session).is_none() {
         return Err(format!("{name}: this scene has none"));
     }
-    param.apply(session, value);
+    param.apply(session, value, true);
     Ok(())
 }
 
 fn first_cloth(s: &Session) -> Option<&pleat::scene::ClothSpec> {
     s.scene.cloths.first()
+}
+
+fn cloth_unless_paper(s: &Session) -> Option<&pleat::scene::ClothSpec> {
+    first_cloth(s).filter(|_| !s.is_paper())
 }
 
 fn each_material(s: &mut Session, f: impl Fn(&mut pleat::Material)) {
@@ -218,7 +224,8 @@ pub const PARAMS: &[Param] = &[
         max: 1e-1,
         logarithmic: true,
         integer: false,
-        get: |s| first_cloth(s).map(|c| c.material.shear_compliance as f64),
+        // Paper has no grid diagonals.
+        get: |s| cloth_unless_paper(s).map(|c| c.material.shear_compliance as f64),
         set: |s, v| live_compliance(s, ComplianceKind::Shear, v),
     },
     Param {
@@ -229,7 +236,8 @@ pub const PARAMS: &[Param] = &[
         max: 1e3,
         logarithmic: true,
         integer: false,
-        get: |s| first_cloth(s).map(|c| c.material.bend_compliance as f64),
+        // Paper bends at its hinges (crease and facet compliances).
+        get: |s| cloth_unless_paper(s).map(|c| c.material.bend_compliance as f64),
         set: |s, v| live_compliance(s, ComplianceKind::Bend, v),
     },
     Param {
@@ -452,10 +460,14 @@ mod tests {
             s.sim.compliances.get(0, ComplianceKind::Stretch),
             Some(1e-3)
         );
+        let inv_mass = s.sim.particles.inv_mass.clone();
         set(&mut s, "density", 0.5).unwrap();
         s.poll().unwrap();
         assert_eq!(s.sim.particles.x, x);
         assert_eq!(s.scene.cloths[0].material.density, 0.5);
+        let heavier = |(new, old): (&f32, &f32)| *old == 0.0 || new < old;
+        assert!(s.sim.particles.inv_mass.iter().zip(&inv_mass).all(heavier));
+        assert_ne!(s.sim.particles.inv_mass, inv_mass);
     }
 
     #[test]

@@ -3,9 +3,13 @@
 //! exports go (a file, or a download), and how tests reach the app (the
 //! command line, or `window.pleatState` and `pleat_set` on the page).
 
-use crate::app::Inbox;
 use crate::probe::Probe;
 use eframe::egui;
+use std::sync::{Arc, Mutex};
+
+/// Files read since the last frame (dropped files arrive asynchronously in
+/// a browser), as (name, bytes or why they could not be read).
+pub type Inbox = Arc<Mutex<Vec<(String, Result<Vec<u8>, String>)>>>;
 
 #[cfg(not(target_arch = "wasm32"))]
 pub use native::*;

@@ -28,6 +28,8 @@ pub struct Probe {
     pub backend: String,
     pub device: String,
     pub unstable: bool,
+    /// Why the backend asked for is not in use, or notes on it.
+    pub notice: Option<String>,
     /// Whether the mouse holds a particle.
     pub grabbing: bool,
     /// Where (CSS pixels, window points natively) a point of the cloth is drawn.
@@ -60,6 +62,7 @@ impl Probe {
         self.backend = sim.backend_name().to_string();
         self.device = sim.device();
         self.unstable = sim.stability.is_unstable();
+        self.notice.clone_from(&session.notice);
     }
 
     /// The probe as JSON text.

@@ -139,8 +139,21 @@ impl Session {
         )?;
         sim.fold_ramp = None;
         if sim.particles.len() == self.sim.particles.len() {
-            sim.particles = self.sim.particles.clone();
+            // The state goes on; masses are the rebuilt model's.
+            let (new, old) = (&mut sim.particles, &self.sim.particles);
+            new.x.clone_from(&old.x);
+            new.x_prev.clone_from(&old.x_prev);
+            new.v.clone_from(&old.v);
             sim.world.time = self.sim.world.time;
+            sim.world.grab = self.sim.world.grab;
+            for (new, old) in sim
+                .world
+                .colliders
+                .iter_mut()
+                .zip(&self.sim.world.colliders)
+            {
+                new.body.clone_from(&old.body);
+            }
             sim.set_fold_progress(self.sim.fold_progress());
             sim.upload();
         }
@@ -184,7 +197,6 @@ impl Session {
     }
 }
 
-/// The demo `id` on the CPU, for tests.
 /// The scene's simulation on the backend `choice` (built once), or on the
 /// CPU with the reason when the GPU cannot take it; the backend used and
 /// a notice for the panel.
@@ -226,12 +238,15 @@ fn gpu_backend(
     settings: &SolverSettings,
 ) -> Result<(Box<dyn Backend>, Option<String>), String> {
     let context =
-        context.ok_or("this adapter has no compute shaders (WebGL?): running on the CPU")?;
+        context.ok_or(
+        "this adapter has no compute shaders (WebGL?): simulating on the CPU, drawing without shadows or colliders",
+    )?;
     let (gpu, notes) = GpuBackend::new(context, model, world, settings)
         .map_err(|e| format!("GPU backend refused: {e}; on the CPU"))?;
     Ok((Box::new(gpu), (!notes.is_empty()).then(|| notes.join("; "))))
 }
 
+/// The demo `id` on the CPU, for tests.
 #[cfg(test)]
 pub fn demo_on_cpu(id: &str) -> Session {
     use crate::demos::{shipped_files, Demo};

@@ -7,7 +7,7 @@
 use crate::orbit::Orbit;
 use crate::session::Session;
 use eframe::egui;
-use glam::{Vec2, Vec3};
+use glam::{Mat4, Vec2, Vec3};
 use pleat::constraint::Grab;
 use pleat_render::{Positions, RenderSettings, Renderer, View};
 
@@ -20,7 +20,9 @@ const GRAB_COMPLIANCE: f32 = 1e-5;
 pub struct Viewport {
     renderer: Option<Renderer>,
     texture: Option<egui::TextureId>,
-    /// The session generation the renderer was built for.
+    /// The scene (counted by the app) the camera frames, and the model the
+    /// renderer was built for.
+    framed: u64,
     built_for: u64,
     pub view: View,
     orbit: Option<Orbit>,
@@ -36,6 +38,7 @@ impl Viewport {
         Viewport {
             renderer: None,
             texture: None,
+            framed: u64::MAX,
             built_for: u64::MAX,
             view: View::Shaded,
             orbit: None,
@@ -49,52 +52,62 @@ impl Viewport {
         self.grabbed.is_some()
     }
 
-    /// Draws the view over the rest of `ui` and handles the mouse. `wgpu`
-    /// is the app's render state (None: nothing can be drawn). Returns an
+    /// Draws the view over the rest of `ui` and handles the mouse, with
+    /// pleat-render on `wgpu`'s device, or, where the adapter has no compute
+    /// shaders (WebGL), with egui's painter ([`crate::software`]). Returns an
     /// error message if the renderer could not be built.
     pub fn show(
         &mut self,
         ui: &mut egui::Ui,
         wgpu: &eframe::egui_wgpu::RenderState,
         session: &mut Session,
-        generation: u64,
+        [opened, generation]: [u64; 2],
+        compute: bool,
     ) -> Result<(), String> {
         let rect = ui.available_rect_before_wrap();
+        if rect.width() < 1.0 || rect.height() < 1.0 {
+            return Ok(()); // Not laid out yet, or minimised.
+        }
         let response = ui.allocate_rect(rect, egui::Sense::click_and_drag());
         let ppp = ui.ctx().pixels_per_point();
-        let size = [
-            ((rect.width() * ppp).round() as u32).max(1),
-            ((rect.height() * ppp).round() as u32).max(1),
-        ];
-        self.prepare(wgpu, session, generation, size)?;
-        let renderer = self.renderer.as_mut().expect("prepared");
-        let orbit = self
-            .orbit
-            .get_or_insert_with(|| Orbit::from(renderer.camera()));
-        let aspect = size[0] as f32 / size[1] as f32;
-        let seen = *orbit;
-        let ray = |pos: egui::Pos2| {
-            let uv = (pos - rect.min) / rect.size();
-            seen.ray(Vec2::new(uv.x, uv.y), aspect)
-        };
-        self.grabbed = grab(&response, session, renderer, rect, ppp, self.grabbed, ray);
-        handle_camera(ui, &response, orbit, self.grabbed.is_some());
-        renderer.set_camera(orbit.camera());
-        let positions = match session.gpu_positions() {
-            Some(buffer) => Positions::Gpu(buffer),
-            None => Positions::Cpu(&session.sim.particles.x),
-        };
-        renderer
-            .draw(positions, &session.sim.world)
-            .map_err(|e| e.to_string())?;
-        let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
-        if let Some(texture) = self.texture {
-            ui.painter().image(texture, rect, uv, egui::Color32::WHITE);
+        let max = wgpu.device.limits().max_texture_dimension_2d;
+        let size = [rect.width(), rect.height()].map(|s| ((s * ppp).round() as u32).clamp(1, max));
+        if self.framed != opened {
+            self.orbit = None;
+            self.grabbed = None;
+            self.framed = opened;
         }
-        crate::legend::draw(ui, rect, self.view, renderer, session);
+        if compute {
+            self.prepare(wgpu, session, generation, size)?;
+        }
+        let orbit = self.orbit.get_or_insert_with(|| {
+            let bounds = scene_bounds(session);
+            Orbit::from(pleat_render::Camera::framing(&bounds, rect.aspect_ratio()))
+        });
+        let seen = Projection::new(*orbit, rect);
+        self.grabbed = grab(&response, session, &seen, self.grabbed);
+        handle_camera(ui, &response, orbit, self.grabbed.is_some());
+        let projection = Projection::new(*orbit, rect);
+        if let Some(renderer) = self.renderer.as_mut().filter(|_| compute) {
+            renderer.set_camera(orbit.camera());
+            let positions = match session.gpu_positions() {
+                Some(buffer) => Positions::Gpu(buffer),
+                None => Positions::Cpu(&session.sim.particles.x),
+            };
+            renderer
+                .draw(positions, &session.sim.world)
+                .map_err(|e| e.to_string())?;
+            let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
+            if let Some(texture) = self.texture {
+                ui.painter().image(texture, rect, uv, egui::Color32::WHITE);
+            }
+            crate::legend::draw(ui, rect, self.view, renderer, session);
+        } else {
+            crate::software::draw(&ui.painter_at(rect), &projection, session);
+        }
         self.cloth_point = central_particle(&session.sim.particles.x)
-            .and_then(|p| renderer.project(p))
-            .map(|px| [rect.min.x + px.x / ppp, rect.min.y + px.y / ppp]);
+            .and_then(|p| projection.to_screen(p))
+            .map(|p| [p.x, p.y]);
         Ok(())
     }
 
@@ -125,9 +138,8 @@ impl Viewport {
                 settings,
             )
             .map_err(|e| format!("cannot draw this scene: {e}"))?;
-            if self.built_for != generation {
+            if self.orbit.is_none() {
                 self.orbit = Some(Orbit::from(renderer.camera()));
-                self.grabbed = None;
             }
             self.renderer = Some(renderer);
             self.built_for = generation;
@@ -191,11 +203,8 @@ fn handle_camera(ui: &egui::Ui, response: &egui::Response, orbit: &mut Orbit, gr
 fn grab(
     response: &egui::Response,
     session: &mut Session,
-    renderer: &Renderer,
-    rect: egui::Rect,
-    ppp: f32,
+    projection: &Projection,
     grabbed: Option<(u32, f32)>,
-    ray: impl Fn(egui::Pos2) -> (Vec3, Vec3),
 ) -> Option<(u32, f32)> {
     let shift = response.ctx.input(|i| i.modifiers.shift);
     let primary = response.dragged_by(egui::PointerButton::Primary) && !shift;
@@ -209,16 +218,8 @@ fn grab(
                 .ctx
                 .input(|i| i.pointer.press_origin())
                 .unwrap_or(pos);
-            let to_pixels =
-                |p: egui::Pos2| Vec2::new((p.x - rect.min.x) * ppp, (p.y - rect.min.y) * ppp);
-            nearest_particle(
-                &session.sim.particles.x,
-                renderer,
-                to_pixels(origin),
-                GRAB_RADIUS * ppp,
-            )
-            .map(|i| {
-                let (eye, _) = ray(origin);
+            nearest_particle(&session.sim.particles.x, projection, origin, GRAB_RADIUS).map(|i| {
+                let (eye, _) = projection.ray(origin);
                 let depth = (session.sim.particles.x[i as usize] - eye).length();
                 (i, depth)
             })
@@ -227,7 +228,7 @@ fn grab(
     };
     match (grabbed, pointer) {
         (Some((particle, depth)), Some(pos)) => {
-            let (eye, direction) = ray(pos);
+            let (eye, direction) = projection.ray(pos);
             session.sim.grab(Some(Grab {
                 particle,
                 target: eye + direction * depth,
@@ -248,21 +249,84 @@ fn central_particle(x: &[Vec3]) -> Option<Vec3> {
     })
 }
 
-/// The particle drawn nearest to `cursor` (picture pixels) within
-/// `radius`, the nearer to the camera among those about as near.
-fn nearest_particle(x: &[Vec3], renderer: &Renderer, cursor: Vec2, radius: f32) -> Option<u32> {
-    let view_proj = renderer.view_proj();
+/// The particle drawn nearest to `cursor` (window points) within
+/// `radius` points, the nearer to the camera among those about as near.
+fn nearest_particle(
+    x: &[Vec3],
+    projection: &Projection,
+    cursor: egui::Pos2,
+    radius: f32,
+) -> Option<u32> {
     x.iter()
         .enumerate()
         .filter_map(|(i, &p)| {
-            let on_screen = renderer.project(p)?;
-            let clip = view_proj * p.extend(1.0);
-            let distance = on_screen.distance(cursor);
-            (distance <= radius).then_some((i as u32, distance, clip.w))
+            let distance = projection.to_screen(p)?.distance(cursor);
+            let depth = projection.depth(p);
+            (distance <= radius).then_some((i as u32, distance, depth))
         })
         .min_by(|a, b| {
             let key = |(_, d, w): &(u32, f32, f32)| (d / radius * 0.25).round() * 1e6 + w;
             key(a).total_cmp(&key(b))
         })
         .map(|(i, _, _)| i)
+}
+
+/// The bounds of the cloth and the colliders, for the first camera.
+fn scene_bounds(session: &Session) -> pleat_render::Bounds {
+    pleat_render::Bounds::of(session.sim.particles.x.iter().copied()).unwrap_or(
+        pleat_render::Bounds {
+            min: Vec3::splat(-0.5),
+            max: Vec3::splat(0.5),
+        },
+    )
+}
+
+/// Where the orbit's camera draws world points on the view's rectangle.
+pub struct Projection {
+    orbit: Orbit,
+    view_proj: Mat4,
+    rect: egui::Rect,
+}
+
+impl Projection {
+    pub fn new(orbit: Orbit, rect: egui::Rect) -> Self {
+        // Near and far planes do not move points across the screen.
+        let view_proj = orbit
+            .camera()
+            .view_proj(rect.aspect_ratio(), orbit.distance);
+        Projection {
+            orbit,
+            view_proj,
+            rect,
+        }
+    }
+
+    /// The window point where `p` is drawn; `None` behind the camera.
+    pub fn to_screen(&self, p: Vec3) -> Option<egui::Pos2> {
+        let clip = self.view_proj * p.extend(1.0);
+        (clip.w > 1e-6).then(|| {
+            let ndc = clip.truncate() / clip.w;
+            egui::pos2(
+                self.rect.left() + (ndc.x * 0.5 + 0.5) * self.rect.width(),
+                self.rect.top() + (0.5 - ndc.y * 0.5) * self.rect.height(),
+            )
+        })
+    }
+
+    /// Distance of `p` in front of the camera (m).
+    pub fn depth(&self, p: Vec3) -> f32 {
+        (self.view_proj * p.extend(1.0)).w
+    }
+
+    /// The camera's position and the direction of the ray through `pos`.
+    pub fn ray(&self, pos: egui::Pos2) -> (Vec3, Vec3) {
+        let uv = (pos - self.rect.min) / self.rect.size();
+        self.orbit
+            .ray(Vec2::new(uv.x, uv.y), self.rect.aspect_ratio())
+    }
+
+    /// The camera's position.
+    pub fn eye(&self) -> Vec3 {
+        self.orbit.camera().position
+    }
 }

@@ -186,6 +186,18 @@ fn shadow_falls_on_the_ground_under_the_cloth() {
         dark < 0.75 * lit,
         "ground under the cloth {dark}, beside it {lit}"
     );
+
+    // A window resized, the cloth moved over the other cell: the shadow follows.
+    r.resize(320, 256).unwrap();
+    let moved: Vec<Vec3> = sim.particles.x.iter().map(|p| *p + Vec3::X * 0.5).collect();
+    let picture = r.render(Positions::Cpu(&moved), &sim.world).unwrap();
+    let under = r.project(Vec3::new(0.625, 0.0, 0.125)).unwrap();
+    let beside = r.project(Vec3::new(0.125, 0.0, 0.125)).unwrap();
+    let (dark, lit) = (luminance(&picture, under), luminance(&picture, beside));
+    assert!(
+        dark < 0.75 * lit,
+        "after a resize: ground under the moved cloth {dark}, where it was {lit}"
+    );
 }
 
 #[test]

@@ -182,13 +182,19 @@ fn cargo() -> Command {
     Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()))
 }
 
+/// The workspace the command runs in (not the one xtask was built in: a
+/// shared target folder may hold an xtask built from another checkout).
 fn workspace_root() -> Result<PathBuf, String> {
-    let manifest = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let output = cargo()
+        .args(["locate-project", "--workspace", "--message-format", "plain"])
+        .output()
+        .map_err(|e| format!("cargo locate-project: {e}"))?;
+    let manifest = PathBuf::from(String::from_utf8_lossy(&output.stdout).trim());
     manifest
-        .ancestors()
-        .nth(2)
+        .parent()
+        .filter(|_| output.status.success())
         .map(Path::to_path_buf)
-        .ok_or_else(|| "cannot find the workspace".to_string())
+        .ok_or_else(|| "cannot find the workspace (run inside the project)".to_string())
 }
 
 /// The target folder cargo uses (CARGO_TARGET_DIR or the workspace's).

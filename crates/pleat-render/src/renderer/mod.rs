@@ -624,13 +624,16 @@ impl Renderer {
         if (width, height) != (self.settings.width, self.settings.height) {
             self.settings.width = width;
             self.settings.height = height;
-            self.targets = Targets::new(
+            let mut targets = Targets::new(
                 &self.device,
                 width,
                 height,
                 self.settings.msaa,
                 self.particles,
             );
+            // The global bind group samples this shadow map: keep it.
+            targets.shadow = self.targets.shadow.clone();
+            self.targets = targets;
             self.write_globals();
         }
         Ok(())
