@@ -308,9 +308,10 @@ impl eframe::App for PleatApp {
                 return;
             };
             let compute = self.gpu.is_some();
+            let built = [self.opened, self.generation];
             if let Err(e) =
                 self.viewport
-                    .show(ui, state, session, [self.opened, self.generation], compute)
+                    .show(ui, state, session, built, compute, self.probe.max_stretch)
             {
                 self.probe.last_error = Some(e);
             }

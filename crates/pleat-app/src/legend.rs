@@ -1,12 +1,12 @@
 //! Legends over the 3D view: the strain colour map's range and the current
 //! maximum, or the colours of the constraint kinds.
 
-use crate::session::Session;
 use eframe::egui;
 use pleat_render::{Renderer, View};
 
 /// Draws the legend of `view` in the bottom-left corner of `rect`.
-pub fn draw(ui: &egui::Ui, rect: egui::Rect, view: View, renderer: &Renderer, session: &Session) {
+/// `max_stretch` is the state's largest edge stretch (the probe measures it).
+pub fn draw(ui: &egui::Ui, rect: egui::Rect, view: View, renderer: &Renderer, max_stretch: f32) {
     let painter = ui.painter_at(rect);
     let corner = rect.left_bottom() + egui::vec2(12.0, -12.0);
     let font = egui::FontId::proportional(13.0);
@@ -28,7 +28,7 @@ pub fn draw(ui: &egui::Ui, rect: egui::Rect, view: View, renderer: &Renderer, se
                 );
                 painter.rect_filled(cell, 0.0, strain_color(t));
             }
-            let max = pleat::metrics::stretch(&session.sim.model, &session.sim.particles).0 - 1.0;
+            let max = max_stretch - 1.0;
             painter.text(
                 bar.left_top() - egui::vec2(0.0, 4.0),
                 egui::Align2::LEFT_BOTTOM,

@@ -54,8 +54,9 @@ impl Viewport {
 
     /// Draws the view over the rest of `ui` and handles the mouse, with
     /// pleat-render on `wgpu`'s device, or, where the adapter has no compute
-    /// shaders (WebGL), with egui's painter ([`crate::software`]). Returns an
-    /// error message if the renderer could not be built.
+    /// shaders (WebGL), with egui's painter ([`crate::software`]);
+    /// `max_stretch` goes on the strain legend. Returns an error message if
+    /// the renderer could not be built.
     pub fn show(
         &mut self,
         ui: &mut egui::Ui,
@@ -63,6 +64,7 @@ impl Viewport {
         session: &mut Session,
         [opened, generation]: [u64; 2],
         compute: bool,
+        max_stretch: f32,
     ) -> Result<(), String> {
         let rect = ui.available_rect_before_wrap();
         if rect.width() < 1.0 || rect.height() < 1.0 {
@@ -101,7 +103,7 @@ impl Viewport {
             if let Some(texture) = self.texture {
                 ui.painter().image(texture, rect, uv, egui::Color32::WHITE);
             }
-            crate::legend::draw(ui, rect, self.view, renderer, session);
+            crate::legend::draw(ui, rect, self.view, renderer, max_stretch);
         } else {
             crate::software::draw(&ui.painter_at(rect), &projection, session);
         }

@@ -119,8 +119,7 @@ fn trilinear(c: Collider, q: vec3<f32>) -> vec4<f32> {
 
 fn normalize_or(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
     let len = length(v);
-    // 3.4e38, not f32::MAX: see MAX_FINITE in wind.wgsl.
-    if len > 0.0 && len <= 3.4e38 {
+    if len > 0.0 && len <= MAX_FINITE {
         return v / len;
     }
     return fallback;

@@ -55,6 +55,9 @@ struct Range {
 const WORKGROUP: u32 = 256u;
 const PI: f32 = 3.14159265358979;
 const TAU: f32 = 6.28318530717959;
+// The largest magnitude taken as finite: just under f32::MAX, which naga
+// writes back out as a decimal that WebGPU (Tint) refuses as out of range.
+const MAX_FINITE: f32 = 3.4e38;
 
 // Flat invocation index of a dispatch that may spread over two dimensions.
 fn flat_index(gid: vec3<u32>, groups: vec3<u32>) -> u32 {
