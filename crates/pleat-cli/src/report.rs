@@ -115,6 +115,7 @@ impl Report {
         threads: usize,
     ) -> Self {
         let m = sim.metrics();
+        let verdict = sim.stability.verdict();
         let frames = frame_times.len() as u32;
         Report {
             scene: name.into(),
@@ -139,9 +140,9 @@ impl Report {
             mean_stretch: m.mean_stretch,
             nan: m.nan,
             unstable: m.unstable,
-            unstable_at: sim.stability.first.map(|(t, _)| t),
-            unstable_kind: sim.stability.first.map(|(_, kind)| kind.name()),
-            unstable_particle: sim.stability.particle,
+            unstable_at: verdict.map(|(t, _, _)| t),
+            unstable_kind: verdict.map(|(_, kind, _)| kind.name()),
+            unstable_particle: verdict.and_then(|(_, _, particle)| particle),
             self_intersections: m.self_intersections,
             collider_penetrations: m.collider_penetrations,
             kinetic_energy: m.kinetic_energy,

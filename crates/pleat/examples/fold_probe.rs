@@ -12,7 +12,7 @@
 //!
 //! Settings: `RAMP`, `SETTLE` (frames), `CC`, `FC` (crease and facet
 //! compliance per unit length), `SUB` (substeps), `ITER` (iterations a
-//! substep), `DAMP` (1/s), `STRETCH` (edge compliance), `NOISE` (metres of
+//! substep), `DAMP` (1/s), `STRETCH` (edge compliance per unit length), `NOISE` (metres of
 //! random initial height). Output: `EVERY` (frames between lines, 20),
 //! `WRONG=1` (each crease on the wrong side at each line), `LIST=1` (each
 //! hinge more than 10 degrees from its target at the end).
@@ -59,7 +59,7 @@ fn main() {
     let total = ramp + setting("SETTLE", 60.0) as u32;
     let every = (setting("EVERY", 20.0) as u32).max(1);
     let mut material = paper_material();
-    material.stretch_compliance = setting("STRETCH", 0.0);
+    material.stretch_compliance = setting("STRETCH", material.stretch_compliance);
     material.shear_compliance = material.stretch_compliance;
     let defaults = PaperStiffness::default();
     let mut model = Model::default();

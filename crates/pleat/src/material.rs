@@ -26,7 +26,8 @@ pub enum BendingModel {
 pub struct Material {
     /// Surface density (kg/m^2).
     pub density: f32,
-    /// Compliance of structural edges (m/N); 0 is inextensible.
+    /// Compliance of structural edges (m/N; on paper per unit of edge
+    /// length, 1/N); 0 is inextensible.
     pub stretch_compliance: f32,
     /// Compliance of diagonal (shear) edges of grid meshes (m/N).
     pub shear_compliance: f32,

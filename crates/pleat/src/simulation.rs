@@ -206,7 +206,7 @@ impl Simulation {
     /// Quality figures of the state last synced ([`Simulation::sync`]).
     pub fn metrics(&self) -> Metrics {
         let mut m = Metrics::measure(&self.model, &self.world, &self.particles);
-        m.unstable |= self.stability.is_unstable();
+        m.unstable |= self.stability.verdict().is_some();
         m
     }
 }

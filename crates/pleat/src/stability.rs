@@ -131,6 +131,18 @@ impl StabilityMonitor {
     pub fn is_unstable(&self) -> bool {
         self.first.is_some()
     }
+
+    /// What a report says: the first instability, when and where, else a
+    /// tear still open (a run that ends torn counts as torn from when the
+    /// tear began, however short).
+    pub fn verdict(&self) -> Option<(f32, Instability, Option<u32>)> {
+        self.first
+            .map(|(time, kind)| (time, kind, self.particle))
+            .or_else(|| {
+                self.torn_since
+                    .map(|(time, particle)| (time, Instability::Torn, particle))
+            })
+    }
 }
 
 /// The first particle whose position or velocity is not finite, else the

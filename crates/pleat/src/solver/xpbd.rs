@@ -274,7 +274,9 @@ pub(super) fn update_velocities(p: &mut Particles, dt: f32) {
 }
 
 /// Stretch and shear constraints on every mesh edge of cloth `index`,
-/// reading the cloth's live stretch and shear compliances.
+/// reading the cloth's live stretch and shear compliances (per unit of
+/// edge length on paper, so that its stretch stiffness does not depend on
+/// the mesh).
 fn edge_constraints<'a>(
     cloth: &'a ClothPart,
     index: usize,
@@ -286,9 +288,14 @@ fn edge_constraints<'a>(
         } else {
             ComplianceKind::Stretch
         };
+        let mut c = DistanceConstraint::at_rest(e.v.map(|i| cloth.global(i)), rest, 1.0);
+        if cloth.paper.is_some() {
+            // Paper's stretch compliance is per unit of edge length.
+            c.compliance = c.rest_length;
+        }
         DistanceConstraint {
             slot: Compliances::slot(index, kind),
-            ..DistanceConstraint::at_rest(e.v.map(|i| cloth.global(i)), rest, 1.0)
+            ..c
         }
     })
 }
