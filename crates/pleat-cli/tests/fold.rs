@@ -87,7 +87,7 @@ fn a_fold_that_tears_exits_1_and_says_when_and_where() {
     let dir = scratch("torn");
     let pattern = concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/tests/data/Crossing_curves.svg"
+        "/tests/data/Carved_Cylinder.svg"
     );
     let out = Command::new(env!("CARGO_BIN_EXE_pleat"))
         .args([

@@ -2,8 +2,9 @@
 //! defaults, 120 frames of ramp, 60 to settle) with one setting changed at a
 //! time from the environment, printing the largest fold-angle errors, the
 //! strain and how many driven creases are folded against their assignment
-//! as it goes: the probe behind the "second round" figures of
-//! docs/origami.md.
+//! as it goes, with the kinetic energy `ke` and the angular momentum `L`
+//! about the centre of mass (a sheet still swinging or spinning): the probe
+//! behind the figures of docs/origami.md.
 //!
 //! ```sh
 //! cargo run --release -p pleat --example fold_probe -- FILE [C]
@@ -43,6 +44,24 @@ fn wrong_side(s: &HingeState, threshold: f32) -> bool {
         (Some(a), Some(t)) => t != 0.0 && a * t < 0.0 && a.abs() > threshold,
         _ => false,
     }
+}
+
+/// Magnitude of the sheet's angular momentum about its centre of mass.
+fn angular_momentum(sim: &Simulation) -> f32 {
+    let p = &sim.particles;
+    let mass = |i: usize| {
+        if p.inv_mass[i] > 0.0 {
+            1.0 / p.inv_mass[i]
+        } else {
+            0.0
+        }
+    };
+    let total: f32 = (0..p.len()).map(mass).sum();
+    let centre = (0..p.len()).map(|i| p.x[i] * mass(i)).sum::<Vec3>() / total;
+    (0..p.len())
+        .map(|i| (p.x[i] - centre).cross(p.v[i]) * mass(i))
+        .sum::<Vec3>()
+        .length()
 }
 
 fn main() {
@@ -119,13 +138,15 @@ fn main() {
         let wrong = states.iter().filter(|s| wrong_side(s, 0.1)).count();
         let e = m.max_fold_angle_error_deg;
         println!(
-            "f {frame:3} c {:.3} err M {:6.1} V {:6.1} F {:6.1} strain {:.4} wrong {wrong} unstable {}",
+            "f {frame:3} c {:.3} err M {:6.1} V {:6.1} F {:6.1} strain {:.4} wrong {wrong} unstable {} ke {:.2e} L {:.2e}",
             m.fold_progress,
             e.mountain,
             e.valley,
             e.flat,
             m.max_strain,
-            sim.stability.is_unstable()
+            sim.stability.is_unstable(),
+            sim.metrics().kinetic_energy,
+            angular_momentum(&sim)
         );
     }
     println!(

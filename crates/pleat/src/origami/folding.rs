@@ -207,7 +207,20 @@ impl Model {
             hinges: sheet.hinges.clone(),
             stiffness,
         });
+        let particles = part.particles();
+        spread_evenly(&mut self.mass[particles]);
     }
+}
+
+/// Gives every particle of `mass` the same share of the total. Folding is
+/// quasi-static, and one XPBD iteration a substep adds `dt^2 sum w |grad
+/// C|^2` to every compliance: with masses lumped by area, the light
+/// vertices of the small triangles where creases meet would make the edges
+/// and hinges there the softest of the sheet (the hypar's centre stretched
+/// 2.6 % at half progress, 0.9 % with even masses).
+fn spread_evenly(mass: &mut [f32]) {
+    let share = mass.iter().sum::<f32>() / mass.len().max(1) as f32;
+    mass.fill(share);
 }
 
 /// Fold progress animated linearly from 0 to `progress` over the first
