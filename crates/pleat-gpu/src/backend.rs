@@ -870,12 +870,16 @@ fn check_size(context: &GpuContext, bytes: u64, what: &str) -> Result<(), GpuErr
 }
 
 impl GpuBackend {
-    /// Grows the per-substep buffers to hold `substeps` substeps.
+    /// Grows the per-substep buffers and the timestamp queries to hold
+    /// `substeps` substeps.
     fn reserve(&mut self, substeps: u32) {
+        let device = &self.context.device;
+        if let Some(t) = &mut self.timestamps {
+            t.reserve(device, substeps);
+        }
         if substeps <= self.per_substep.capacity {
             return;
         }
-        let device = &self.context.device;
         self.per_substep = PerSubstep::new(device, &self.counts, substeps);
         self.stages = Stages::new(
             device,
@@ -1118,7 +1122,7 @@ impl Backend for GpuBackend {
         }
         let substeps = self.write_frame(world, (settings, compliances), frame_dt);
         if let Some(t) = &mut self.timestamps {
-            t.begin_frame(substeps);
+            t.begin_frame(&self.context.device, substeps);
         }
         let mut encoder =
             self.context

@@ -477,3 +477,26 @@ fn a_live_collider_friction_change_stops_the_sliding_sheet_on_both_backends() {
     let mean = mean_distance(&c, &g);
     assert!(mean < 1e-3, "GPU differs from CPU by {mean} m on average");
 }
+
+#[test]
+fn stage_times_keep_coming_after_the_substeps_are_raised() {
+    assert!(
+        context()
+            .device
+            .features()
+            .contains(wgpu::Features::TIMESTAMP_QUERY),
+        "the adapter stamps passes (lavapipe does)"
+    );
+    let scene = scene(FALLING);
+    let mut g = gpu(&scene);
+    step_unread(&mut g, &scene, 2);
+    assert!(g.stages.constraints > std::time::Duration::ZERO);
+    g.settings.substeps = 3 * scene.solver.substeps;
+    g.stages = Default::default();
+    step_unread(&mut g, &scene, 2);
+    let s = g.stages;
+    assert!(
+        s.predict > std::time::Duration::ZERO && s.constraints > std::time::Duration::ZERO,
+        "{s:?}"
+    );
+}
