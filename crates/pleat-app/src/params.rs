@@ -137,7 +137,7 @@ fn each_friction(s: &mut Session, f: impl Fn(&mut pleat::collide::Friction)) -> 
     for c in &mut s.sim.world.colliders {
         f(&mut c.friction);
     }
-    Effect::Rebuild
+    Effect::Live
 }
 
 /// Every parameter, in panel order.

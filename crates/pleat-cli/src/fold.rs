@@ -8,10 +8,10 @@ use crate::output::OutputArgs;
 use crate::render::{PictureArgs, Pictures};
 use crate::report::Report;
 use crate::run::{finish, rayon_threads, run_frames, simulate};
-use crate::with_threads;
+use crate::{backend_for, check_backend, with_threads};
 use pleat::origami::{
-    builtin, folded_state_fold, load_pattern, paper_simulation, CreasePattern, FoldRamp, Sheet,
-    SheetOptions, BUILTIN_NAMES,
+    builtin, folded_state_fold, load_pattern, paper_model, paper_simulation_on,
+    paper_solver_settings, CreasePattern, FoldRamp, Sheet, SheetOptions, BUILTIN_NAMES,
 };
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -58,6 +58,7 @@ pub fn fold(args: &FoldArgs) -> Result<ExitCode, String> {
             args.progress
         ));
     }
+    check_backend(&args.backend)?;
     let (pattern, name) = load(&args.pattern)?;
     let sheet = Sheet::from_pattern(&pattern, &SheetOptions::default())
         .map_err(|e| e.with_file(args.pattern.clone()).to_string())?;
@@ -65,8 +66,9 @@ pub fn fold(args: &FoldArgs) -> Result<ExitCode, String> {
         progress: args.progress,
         frames: args.frames,
     };
-    let mut sim = paper_simulation(&sheet, ramp);
-    crate::use_backend(&mut sim, &args.backend)?;
+    let (model, world) = paper_model(&sheet);
+    let backend = backend_for(&model, &world, &paper_solver_settings(), &args.backend)?;
+    let mut sim = paper_simulation_on((model, world), backend, ramp);
     let frame_dt = 1.0 / FPS;
     let frames = (args.frames + SETTLE_FRAMES, frame_dt);
     let threads = rayon_threads(args.output.threads)?;

@@ -127,14 +127,3 @@ fn backend_for(
     }
     Ok(Box::new(gpu))
 }
-
-/// Moves `sim`, built on the CPU, onto the backend named `backend` (`cpu`
-/// keeps it where it is), for simulations built elsewhere than from a scene.
-fn use_backend(sim: &mut Simulation, backend: &str) -> Result<(), String> {
-    check_backend(backend)?;
-    if backend == "gpu" {
-        let gpu = backend_for(&sim.model, &sim.world, &sim.settings, backend)?;
-        sim.replace_backend(gpu);
-    }
-    Ok(())
-}

@@ -1,6 +1,6 @@
 //! `pleat fold` end to end: a built-in folds, reports its origami figures
-//! and writes its folded state as FOLD; a malformed pattern file is refused
-//! with its name and line.
+//! and writes its folded state as FOLD, on either backend; a malformed
+//! pattern file is refused with its name and line.
 
 use std::path::PathBuf;
 use std::process::Command;
@@ -130,4 +130,33 @@ fn malformed_pattern_and_unknown_names_are_refused() {
     let (ok, text) = pleat(&["fold", "miura-ori", "--progress", "2"]);
     assert!(!ok);
     assert!(text.contains("--progress"), "{text}");
+    let (ok, text) = pleat(&["fold", "miura-ori", "--backend", "tpu"]);
+    assert!(!ok);
+    assert!(text.contains("unknown backend"), "{text}");
+}
+
+#[test]
+fn a_builtin_folds_on_the_gpu_backend() {
+    let dir = scratch("gpu");
+    let (ok, text) = pleat(&[
+        "fold",
+        "miura-ori",
+        "--backend",
+        "gpu",
+        "--progress",
+        "0.5",
+        "--frames",
+        "10",
+        "--out",
+        dir.to_str().unwrap(),
+        "--every",
+        "1000",
+    ]);
+    assert!(ok, "{text}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    assert_eq!(report["backend"], "gpu");
+    assert_eq!(report["frames"], 70);
+    assert_eq!(report["origami"]["fold_progress"], 0.5);
+    assert!(report["origami"]["max_strain"].as_f64().unwrap() < 0.05);
 }

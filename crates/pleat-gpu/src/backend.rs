@@ -4,10 +4,11 @@
 //! uniform offset), in the core's order, so the result follows the CPU
 //! backend's to round-off. Pin targets and collider poses of every substep
 //! of a frame are computed on the CPU from their scripts and uploaded once
-//! per frame (a few bytes per pin and collider).
+//! per frame (a few bytes per pin and collider), with the colliders'
+//! friction when the world's has changed.
 
 use crate::context::{GpuContext, GpuError};
-use crate::data::{self, Attachment, Counts, GpuPose, Params, Range};
+use crate::data::{self, Attachment, Counts, GpuCollider, GpuPose, Params, Range};
 use crate::health::{HealthInputs, HealthWatch, PaperEdges};
 use crate::kernels::{workgroups, Kernels, COMPLIANCE_SLOTS, UNIFORM_STRIDE};
 use crate::readback::Readback;
@@ -134,10 +135,11 @@ struct KernelBuffers {
     around_start: wgpu::Buffer,
     around: wgpu::Buffer,
     colliders: wgpu::Buffer,
+    /// What `colliders` holds, its friction refreshed from the world.
+    collider_shapes: Vec<GpuCollider>,
     sdf_values: wgpu::Buffer,
     thickness: wgpu::Buffer,
     whole: (u32, u32),
-    collider_count: usize,
     self_contact: Option<SelfContactBuffers>,
 }
 
@@ -287,7 +289,7 @@ impl GpuBackend {
             sdf_values: storage(device, "distance fields", &sdf_values),
             thickness: storage(device, "thickness", &model.thickness),
             whole,
-            collider_count: colliders.len(),
+            collider_shapes: colliders,
             self_contact: contact,
         };
         let ranges = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -323,7 +325,7 @@ impl GpuBackend {
             particles: n as u32,
             triangles: model.triangles.len() as u32,
             pins: (hard_pins.len() + soft_pins.len()) as u32,
-            colliders: colliders.len() as u32,
+            colliders: buffers.collider_shapes.len() as u32,
             contact_cell: buffers.self_contact.as_ref().map_or(0.0, |c| c.cell),
             contact_buckets: buffers.self_contact.as_ref().map_or(0, |c| c.buckets),
         };
@@ -537,7 +539,7 @@ impl Stages {
                 pipelines: kernels.self_contact.clone(),
                 buckets: c.buckets,
             }),
-            collide: (b.collider_count > 0).then(|| {
+            collide: (!b.collider_shapes.is_empty()).then(|| {
                 stage(
                     &kernels.resolve,
                     [
@@ -868,12 +870,16 @@ fn check_size(context: &GpuContext, bytes: u64, what: &str) -> Result<(), GpuErr
 }
 
 impl GpuBackend {
-    /// Grows the per-substep buffers to hold `substeps` substeps.
+    /// Grows the per-substep buffers and the timestamp queries to hold
+    /// `substeps` substeps.
     fn reserve(&mut self, substeps: u32) {
+        let device = &self.context.device;
+        if let Some(t) = &mut self.timestamps {
+            t.reserve(device, substeps);
+        }
         if substeps <= self.per_substep.capacity {
             return;
         }
-        let device = &self.context.device;
         self.per_substep = PerSubstep::new(device, &self.counts, substeps);
         self.stages = Stages::new(
             device,
@@ -886,7 +892,7 @@ impl GpuBackend {
     }
 
     /// Writes the parameters, pin targets and collider poses of every
-    /// substep of the frame, and the live compliances.
+    /// substep of the frame, and the live compliances and friction.
     fn write_frame(
         &mut self,
         world: &World,
@@ -936,6 +942,10 @@ impl GpuBackend {
         }
         if !poses.is_empty() {
             queue.write_buffer(&self.per_substep.poses, 0, bytemuck::cast_slice(poses));
+        }
+        let shapes = &mut self.buffers.collider_shapes;
+        if data::refresh_friction(shapes, world) {
+            queue.write_buffer(&self.buffers.colliders, 0, bytemuck::cast_slice(shapes));
         }
         substeps
     }
@@ -1112,7 +1122,7 @@ impl Backend for GpuBackend {
         }
         let substeps = self.write_frame(world, (settings, compliances), frame_dt);
         if let Some(t) = &mut self.timestamps {
-            t.begin_frame(substeps);
+            t.begin_frame(&self.context.device, substeps);
         }
         let mut encoder =
             self.context

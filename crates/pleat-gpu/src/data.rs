@@ -175,6 +175,21 @@ pub fn colliders(world: &World) -> Result<Colliders, GpuError> {
     })
 }
 
+/// Copies the world's collider friction into `shapes`, since it is live
+/// (the app and sweeps change it between frames); whether any changed.
+pub fn refresh_friction(shapes: &mut [GpuCollider], world: &World) -> bool {
+    let mut changed = false;
+    for (g, c) in shapes.iter_mut().zip(&world.colliders) {
+        let f = [
+            c.friction.static_coefficient,
+            c.friction.kinetic_coefficient,
+        ];
+        changed |= [g.static_friction, g.kinetic_friction] != f;
+        [g.static_friction, g.kinetic_friction] = f;
+    }
+    changed
+}
+
 fn collider(
     i: usize,
     c: &Collider,

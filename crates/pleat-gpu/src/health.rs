@@ -1,8 +1,8 @@
 //! The health watch of the GPU backend: after the last substep of a frame
 //! a reduction (`shaders/health.wgsl`) sums the state up as the core's
 //! instability criteria read it ([`pleat::stability::Health`]), and its 32
-//! bytes come back without blocking, as the timestamps do. A frame that
-//! ends while the last result is still on its way is not measured.
+//! bytes come back without blocking. A frame that ends while the last
+//! result is still on its way is not measured.
 
 use crate::kernels::{workgroups, Kernels};
 use bytemuck::{Pod, Zeroable};

@@ -438,3 +438,65 @@ fn a_blocking_read_after_an_untaken_request_reads_the_current_state() {
         );
     }
 }
+
+/// An 8 x 8 sheet lying on a frictionless floor, gravity tilted as on a
+/// slope of 0.3: it slides until friction holds it.
+const SLIDING: &str = r#"{ "name": "sliding", "fps": 60, "gravity": [3.0, -9.81, 0.0], "solver": { "substeps": 10 },
+    "cloths": [ { "mesh": { "grid": { "resolution": [8, 8], "size": [0.5, 0.5], "orientation": "horizontal", "center": [0.0, 0.005, 0.0] } } } ],
+    "colliders": [ { "shape": { "plane": {} }, "friction": { "static": 0.0, "kinetic": 0.0 } } ] }"#;
+
+/// Mean velocity along the slope.
+fn mean_slide(sim: &Simulation) -> f32 {
+    sim.particles.v.iter().map(|v| v.x).sum::<f32>() / sim.particles.len() as f32
+}
+
+#[test]
+fn a_live_collider_friction_change_stops_the_sliding_sheet_on_both_backends() {
+    let scene = scene(SLIDING);
+    let (mut c, mut g) = (cpu(&scene), gpu(&scene));
+    for sim in [&mut c, &mut g] {
+        run(sim, &scene, 10);
+        let slide = mean_slide(sim);
+        assert!(
+            slide > 0.3,
+            "{}: the sheet slides on the frictionless floor ({slide} m/s)",
+            sim.backend_name()
+        );
+        sim.world.colliders[0].friction = pleat::collide::Friction {
+            static_coefficient: 1.0,
+            kinetic_coefficient: 0.9,
+        };
+        run(sim, &scene, 20);
+        let slide = mean_slide(sim);
+        assert!(
+            slide.abs() < 0.01,
+            "{}: friction holds the sheet ({slide} m/s)",
+            sim.backend_name()
+        );
+    }
+    let mean = mean_distance(&c, &g);
+    assert!(mean < 1e-3, "GPU differs from CPU by {mean} m on average");
+}
+
+#[test]
+fn stage_times_keep_coming_after_the_substeps_are_raised() {
+    assert!(
+        context()
+            .device
+            .features()
+            .contains(wgpu::Features::TIMESTAMP_QUERY),
+        "the adapter stamps passes (lavapipe does)"
+    );
+    let scene = scene(FALLING);
+    let mut g = gpu(&scene);
+    step_unread(&mut g, &scene, 2);
+    assert!(g.stages.constraints > std::time::Duration::ZERO);
+    g.settings.substeps = 3 * scene.solver.substeps;
+    g.stages = Default::default();
+    step_unread(&mut g, &scene, 2);
+    let s = g.stages;
+    assert!(
+        s.predict > std::time::Duration::ZERO && s.constraints > std::time::Duration::ZERO,
+        "{s:?}"
+    );
+}

@@ -52,6 +52,7 @@ use std::collections::HashMap;
 use super::fold::assignment_letter;
 use super::pattern::Assignment;
 use super::sheet::{Hinge, Sheet};
+use crate::backend::{Backend, CpuBackend};
 use crate::constraint::bending::{dihedral_angle, wrap_angle};
 use crate::constraint::{ComplianceKind, Compliances, OrigamiHinge};
 use crate::material::Material;
@@ -242,18 +243,39 @@ impl FoldRamp {
     }
 }
 
-/// A simulation that folds `sheet` alone with the paper defaults: no
-/// gravity, [`paper_solver_settings`], progress ramped by `ramp`.
-pub fn paper_simulation(sheet: &Sheet, ramp: FoldRamp) -> Simulation {
+/// The model and world of `sheet` folding alone with the paper defaults
+/// (no gravity), for a backend built with [`paper_solver_settings`] and
+/// [`paper_simulation_on`].
+pub fn paper_model(sheet: &Sheet) -> (Model, World) {
     let mut model = Model::default();
     model.add_paper("paper", sheet, paper_material(), PaperStiffness::default());
     let world = World {
         gravity: Vec3::ZERO,
         ..World::default()
     };
-    let mut sim = Simulation::new(model, world, paper_solver_settings());
+    (model, world)
+}
+
+/// A simulation that folds `model` in `world` (from [`paper_model`]) on
+/// `backend` (built for them) with [`paper_solver_settings`], progress
+/// ramped by `ramp`.
+pub fn paper_simulation_on(
+    (model, world): (Model, World),
+    backend: Box<dyn Backend>,
+    ramp: FoldRamp,
+) -> Simulation {
+    let mut sim = Simulation::with_backend(model, world, paper_solver_settings(), backend);
     sim.fold_ramp = Some(ramp);
     sim
+}
+
+/// A simulation that folds `sheet` alone with the paper defaults on the
+/// CPU backend: no gravity, [`paper_solver_settings`], progress ramped by
+/// `ramp`.
+pub fn paper_simulation(sheet: &Sheet, ramp: FoldRamp) -> Simulation {
+    let (model, world) = paper_model(sheet);
+    let backend = Box::new(CpuBackend::new(&model, &paper_solver_settings()));
+    paper_simulation_on((model, world), backend, ramp)
 }
 
 /// One hinge of a paper part as folded now.

@@ -20,9 +20,9 @@ pub use builtin::{builtin, Kresling, MiuraOri, BUILTIN_NAMES};
 pub use cp::parse_cp;
 pub use fold::{parse_fold, to_fold_json};
 pub use folding::{
-    folded_state_fold, hinge_states, paper_material, paper_simulation, paper_solver_settings,
-    FoldAngleErrors, FoldMetrics, FoldRamp, HingeState, Paper, PaperStiffness, WorstFacet,
-    WorstHinge,
+    folded_state_fold, hinge_states, paper_material, paper_model, paper_simulation,
+    paper_simulation_on, paper_solver_settings, FoldAngleErrors, FoldMetrics, FoldRamp, HingeState,
+    Paper, PaperStiffness, WorstFacet, WorstHinge,
 };
 pub use pattern::{
     load_pattern, load_pattern_with_warnings, parse_pattern, Assignment, CreasePattern,
