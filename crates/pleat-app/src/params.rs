@@ -248,7 +248,8 @@ pub const PARAMS: &[Param] = &[
         max: 10.0,
         logarithmic: true,
         integer: false,
-        get: |s| first_cloth(s).map(|c| c.material.density as f64),
+        // Paper's vertices weigh pleat::origami::PAPER_VERTEX_MASS each.
+        get: |s| cloth_unless_paper(s).map(|c| c.material.density as f64),
         set: |s, v| {
             each_material(s, |m| m.density = v as f32);
             Effect::Rebuild

@@ -24,7 +24,8 @@ pub enum BendingModel {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Material {
-    /// Surface density (kg/m^2).
+    /// Surface density (kg/m^2; unused on paper, whose vertices weigh
+    /// [`crate::origami::PAPER_VERTEX_MASS`] each).
     pub density: f32,
     /// Compliance of structural edges (m/N; on paper per unit of edge
     /// length, 1/N); 0 is inextensible.

@@ -1,8 +1,7 @@
 //! Every pattern of `patterns/origami-simulator` and `patterns/shared`
 //! folded as `pleat fold FILE --progress C` folds it (the paper defaults,
 //! 120 frames of ramp and 60 to settle) at C = 0.25, 0.5 and 1: no NaN, no
-//! instability, facet strain within 2 % (or within the bound of a known gap,
-//! listed below and in docs/origami.md), and at C = 1 every driven crease
+//! instability, facet strain within 2 %, and at C = 1 every driven crease
 //! within 5 degrees of its target on the patterns Origami Simulator folds
 //! to within 1 degree (issue 12).
 
@@ -17,10 +16,6 @@ const PROGRESSES: [f32; 3] = [0.25, 0.5, 1.0];
 
 /// Largest facet strain issue 12 allows.
 const STRAIN_LIMIT: f32 = 0.02;
-
-/// Patterns whose strain still exceeds [`STRAIN_LIMIT`] at some progress
-/// (open in docs/origami.md), with the bound they keep meanwhile.
-const STRAIN_GAPS: [(&str, f32); 2] = [("traditionalCrane.svg", 0.03), ("huffmanTower.svg", 0.05)];
 
 /// Patterns Origami Simulator folds to within 1 degree at full progress,
 /// which must end within 5 degrees here.
@@ -89,13 +84,9 @@ fn every_library_pattern_folds_stably_with_little_strain() {
     });
     for (name, c, m, stable) in &results {
         assert!(stable, "{name} at {c}: unstable ({m:?})");
-        let limit = STRAIN_GAPS
-            .iter()
-            .find(|(gap, _)| gap == name)
-            .map_or(STRAIN_LIMIT, |&(_, bound)| bound);
         assert!(
-            m.max_strain <= limit,
-            "{name} at {c}: strain {} over {limit}",
+            m.max_strain <= STRAIN_LIMIT,
+            "{name} at {c}: strain {} over {STRAIN_LIMIT}",
             m.max_strain
         );
         if *c == 1.0 && WITHIN_FIVE_DEGREES.contains(&name.as_str()) {
@@ -103,15 +94,5 @@ fn every_library_pattern_folds_stably_with_little_strain() {
             let worst = e.mountain.max(e.valley);
             assert!(worst < 5.0, "{name}: fold-angle error {worst} degrees");
         }
-    }
-    // The gaps are real: each still exceeds the limit somewhere (drop it
-    // from the list once it does not).
-    for (gap, _) in STRAIN_GAPS {
-        assert!(
-            results
-                .iter()
-                .any(|(name, _, m, _)| name == gap && m.max_strain > STRAIN_LIMIT),
-            "{gap} is within {STRAIN_LIMIT} now: remove it from STRAIN_GAPS"
-        );
     }
 }

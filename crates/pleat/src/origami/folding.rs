@@ -21,8 +21,8 @@
 //! 1 m across (every sheet is scaled to that size, so a pattern drawn in
 //! px, mm or m folds alike): 160 substeps of one iteration at 60 frames per
 //! second, damping 10 /s, crease compliance 1 and facet compliance 0.1
-//! (rad^2 m / J), stretch compliance 2e-3 per unit of edge length (1/N);
-//! gravity is off. Creases must be far softer than the edges: where the
+//! (rad^2 m / J), stretch compliance 2e-3 per unit of edge length (1/N),
+//! every vertex 1 g ([`PAPER_VERTEX_MASS`]); gravity is off. Creases must be far softer than the edges: where the
 //! targets of several creases disagree (every pattern that is not rigidly
 //! foldable with all creases at the same progress), stiffer creases strain
 //! the paper and set it spinning, since Gauss-Seidel projections of
@@ -65,6 +65,16 @@ use crate::world::World;
 
 /// Areal density of 80 g/m^2 office paper (kg/m^2).
 pub const PAPER_DENSITY: f32 = 0.08;
+
+/// Mass of every vertex of paper (kg), whatever the material's density.
+/// Folding is quasi-static and the mass a device of the solver: one XPBD
+/// iteration a substep adds `dt^2 sum w |grad C|^2` to every compliance,
+/// so with the sheet's mass shared among its vertices the finest patterns
+/// (light vertices) would be the softest, and with masses lumped by area
+/// the small triangles where creases meet would be (the hypar's centre
+/// stretched 5.2 % at half progress, HexSpiralTess's 6,149 vertices tore).
+/// One gram a vertex, as Origami Simulator gives every node the same mass.
+pub const PAPER_VERTEX_MASS: f32 = 1e-3;
 
 /// Stretch compliance of paper's edges per unit of edge length (1/N: an
 /// edge of length `L` has compliance `L` times this, m/N).
@@ -209,19 +219,8 @@ impl Model {
             stiffness,
         });
         let particles = part.particles();
-        spread_evenly(&mut self.mass[particles]);
+        self.mass[particles].fill(PAPER_VERTEX_MASS);
     }
-}
-
-/// Gives every particle of `mass` the same share of the total. Folding is
-/// quasi-static, and one XPBD iteration a substep adds `dt^2 sum w |grad
-/// C|^2` to every compliance: with masses lumped by area, the light
-/// vertices of the small triangles where creases meet would make the edges
-/// and hinges there the softest of the sheet (the hypar's centre stretched
-/// 2.6 % at half progress, 0.9 % with even masses).
-fn spread_evenly(mass: &mut [f32]) {
-    let share = mass.iter().sum::<f32>() / mass.len().max(1) as f32;
-    mass.fill(share);
 }
 
 /// Fold progress animated linearly from 0 to `progress` over the first
