@@ -6,7 +6,7 @@
 //! where the adapter has compute shaders (else on the CPU, said on screen).
 //! The mouse orbits the camera or drags the cloth; dropped scenes, meshes
 //! and crease patterns open ([`dropped`]). The web build starts from
-//! [`start`] on a page made by `cargo xtask web`.
+//! `start` on a page made by `cargo xtask web`.
 
 pub mod app;
 pub mod demos;

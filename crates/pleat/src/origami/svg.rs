@@ -8,7 +8,7 @@
 //! `stroke`), with `stroke` and opacity given as attributes, in a `style`
 //! attribute or by the rules of `<style>` sheets (Illustrator's
 //! `.st0{stroke:#FF0000}` classes: selectors by class, element name and id,
-//! comma lists; see [`Css`]). Paths take M, L, H, V, Z, C, S, Q, T in absolute and relative
+//! comma lists; see `Css`). Paths take M, L, H, V, Z, C, S, Q, T in absolute and relative
 //! form: curves (curved creases) become polylines of 8 straight pieces;
 //! arcs (A) are refused with an error naming them. Rounded rectangle corners (`rx`) are drawn square.
 //! Strokes of other colours are ignored with a warning. The y axis is turned
