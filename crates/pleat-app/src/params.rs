@@ -83,6 +83,11 @@ fn cloth_unless_paper(s: &Session) -> Option<&pleat::scene::ClothSpec> {
     first_cloth(s).filter(|_| !s.is_paper())
 }
 
+/// The first collider's friction, which the friction sliders show.
+fn first_friction(s: &Session) -> Option<&pleat::collide::Friction> {
+    s.scene.colliders.first().map(|c| &c.friction)
+}
+
 fn each_material(s: &mut Session, f: impl Fn(&mut pleat::Material)) {
     for cloth in &mut s.scene.cloths {
         f(&mut cloth.material);
@@ -285,12 +290,7 @@ pub const PARAMS: &[Param] = &[
         max: 2.0,
         logarithmic: false,
         integer: false,
-        get: |s| {
-            s.scene
-                .colliders
-                .first()
-                .map(|c| c.friction.static_coefficient as f64)
-        },
+        get: |s| first_friction(s).map(|f| f.static_coefficient as f64),
         set: |s, v| each_friction(s, |f| f.static_coefficient = v as f32),
     },
     Param {
@@ -301,12 +301,7 @@ pub const PARAMS: &[Param] = &[
         max: 2.0,
         logarithmic: false,
         integer: false,
-        get: |s| {
-            s.scene
-                .colliders
-                .first()
-                .map(|c| c.friction.kinetic_coefficient as f64)
-        },
+        get: |s| first_friction(s).map(|f| f.kinetic_coefficient as f64),
         set: |s, v| each_friction(s, |f| f.kinetic_coefficient = v as f32),
     },
     Param {

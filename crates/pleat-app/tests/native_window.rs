@@ -63,18 +63,15 @@ fn assert_shows_something(picture: &image::RgbaImage, path: &Path) {
     );
 }
 
+/// The app's stderr for `args`, which it must refuse with exit status 2.
+fn refused(args: &[&str]) -> String {
+    let out = Command::new(APP).args(args).output().unwrap();
+    assert_eq!(out.status.code(), Some(2), "{args:?}");
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
 #[test]
 fn bad_arguments_exit_2_with_the_reason() {
-    let out = Command::new(APP)
-        .args(["--backend", "quantum"])
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("--backend: expected cpu or gpu"));
-    let out = Command::new(APP)
-        .args(["--set", "gravity"])
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("NAME=VALUE"));
+    assert!(refused(&["--backend", "quantum"]).contains("--backend: expected cpu or gpu"));
+    assert!(refused(&["--set", "gravity"]).contains("NAME=VALUE"));
 }

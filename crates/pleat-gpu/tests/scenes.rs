@@ -235,9 +235,7 @@ fn state_read_without_blocking_matches_the_blocking_read() {
     let scene = scene_file("drape.json");
     let (mut a, mut b) = (gpu(&scene), gpu(&scene));
     for sim in [&mut a, &mut b] {
-        for _ in 0..10 {
-            sim.step(scene.frame_dt());
-        }
+        steps(sim, &scene, 10);
     }
     a.sync();
     b.request_sync();
@@ -420,17 +418,12 @@ fn a_blocking_read_after_an_untaken_request_reads_the_current_state() {
     let scene = scene_file("drape.json");
     let (mut a, mut b) = (gpu(&scene), gpu(&scene));
     for sim in [&mut a, &mut b] {
-        for _ in 0..5 {
-            sim.step(scene.frame_dt());
-        }
+        steps(sim, &scene, 5);
     }
     b.request_sync();
     for round in 0..3 {
         for sim in [&mut a, &mut b] {
-            for _ in 0..5 {
-                sim.step(scene.frame_dt());
-            }
-            sim.sync();
+            run(sim, &scene, 5);
         }
         assert!(
             a.particles.x == b.particles.x && a.particles.v == b.particles.v,

@@ -44,11 +44,17 @@ pub fn gpu(scene: &Scene) -> Simulation {
     sim
 }
 
-/// Steps `sim` for `frames` frames of the scene's frame time and syncs.
-pub fn run(sim: &mut Simulation, scene: &Scene, frames: u32) {
+/// Steps `sim` for `frames` frames of the scene's frame time, without
+/// reading the state back.
+pub fn steps(sim: &mut Simulation, scene: &Scene, frames: u32) {
     for _ in 0..frames {
         sim.step(scene.frame_dt());
     }
+}
+
+/// Steps `sim` for `frames` frames of the scene's frame time and syncs.
+pub fn run(sim: &mut Simulation, scene: &Scene, frames: u32) {
+    steps(sim, scene, frames);
     sim.sync();
 }
 
