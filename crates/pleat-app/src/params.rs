@@ -212,7 +212,7 @@ pub const PARAMS: &[Param] = &[
     },
     Param {
         name: "stretch_compliance",
-        label: "stretch compliance (m/N)",
+        label: "stretch compliance (m/N; per metre on paper)",
         section: Section::Material,
         min: 0.0,
         max: 1e-1,
@@ -220,6 +220,20 @@ pub const PARAMS: &[Param] = &[
         integer: false,
         get: |s| first_cloth(s).map(|c| c.material.stretch_compliance as f64),
         set: |s, v| live_compliance(s, ComplianceKind::Stretch, v),
+    },
+    Param {
+        name: "max_strain",
+        label: "strain limit (0: none)",
+        section: Section::Material,
+        min: 0.0,
+        max: 0.2,
+        logarithmic: false,
+        integer: false,
+        get: |s| first_cloth(s).map(|c| c.material.max_strain.unwrap_or(0.0) as f64),
+        set: |s, v| {
+            each_material(s, |m| m.max_strain = (v > 0.0).then_some(v as f32));
+            Effect::Rebuild
+        },
     },
     Param {
         name: "shear_compliance",

@@ -83,9 +83,10 @@ fn builtin_folds_and_reports_fold_angle_errors() {
     assert!(valleys.iter().all(|&a| a > 0.0 && a < 180.0), "{valleys:?}");
 }
 
-/// Paper with creases ten thousand times stiffer than the defaults, folded
-/// in 5 frames at 4 substeps: the paper defaults no longer tear any pattern
-/// of Origami Simulator's library, this does.
+/// Paper with creases ten thousand times stiffer than the defaults and no
+/// strain limit (`max_strain`), folded in 5 frames at 4 substeps: the paper
+/// defaults no longer tear any pattern of Origami Simulator's library, this
+/// does.
 const TEARING_SCENE: &str = r#"{
   "name": "tear", "frames": 60, "fps": 60, "gravity": [0.0, 0.0, 0.0],
   "solver": { "kind": "xpbd", "substeps": 4, "iterations": 1, "damping": 1.0 },

@@ -11,6 +11,8 @@ struct Distance {
     stiffness: f32,
     // Unused: Jacobi PBD has no compliance.
     slot: u32,
+    // Unused: Jacobi PBD has no strain limits.
+    max_stretch: f32,
 }
 
 @group(1) @binding(0) var<storage, read_write> items: array<Distance>;

@@ -127,6 +127,8 @@ pub struct GpuBackend {
 struct KernelBuffers {
     /// Items and lambdas of each constraint kind, in projection order.
     constraints: Vec<ConstraintBuffers>,
+    /// Sweeps of the distances' strain limits after the iterations.
+    strain_limit_sweeps: u32,
     hard_pins: wgpu::Buffer,
     pin_dispatch: (u32, u32),
     track_dispatch: (u32, u32),
@@ -261,6 +263,7 @@ impl GpuBackend {
             kinds,
             soft_pins,
             hinge_count,
+            strain_limit_sweeps,
             constraint_count,
         } = projection;
         let hard_indices: Vec<u32> = hard_pins.iter().map(|a| a.particle[0]).collect();
@@ -280,6 +283,7 @@ impl GpuBackend {
             pin_dispatch: table.push(0, hard_indices.len() as u32),
             track_dispatch: table.push(0, hinge_count),
             constraints: kinds,
+            strain_limit_sweeps,
             hard_pins: storage(device, "hard pins", &hard_indices),
             triangles: storage(device, "triangles", &flat_triangles),
             triangle_force: zeroed(device, "triangle forces", model.triangles.len() as u64 * 16),
@@ -432,6 +436,9 @@ struct Stages {
     pins: Option<Stage>,
     /// In projection order: hinges, distances, bending, isometric, soft attachments, tethers.
     constraints: Vec<Stage>,
+    /// The distances' strain limits alone and how many sweeps of them
+    /// follow the iterations.
+    strain_limit: Option<(Stage, u32)>,
     track: Option<Stage>,
     grab: wgpu::ComputePipeline,
     self_contact: Option<SelfContactStage>,
@@ -512,6 +519,15 @@ impl Stages {
             .iter()
             .find(|k| k.kind == ConstraintKind::Hinge)
             .map_or(pos, |k| &k.items);
+        let strain_limit = b
+            .constraints
+            .iter()
+            .find(|k| k.kind == ConstraintKind::Distance && b.strain_limit_sweeps > 0)
+            .map(|k| {
+                let buffers = [&k.items, &k.lambda, &per_substep.targets, &spare[0]];
+                let limit = stage(&kernels.distance_limit, buffers, k.dispatches.clone());
+                (limit, b.strain_limit_sweeps)
+            });
         Stages {
             wind: [
                 stage(&kernels.triangle_forces, wind_buffers, vec![b.whole]),
@@ -526,6 +542,7 @@ impl Stages {
                 )
             }),
             constraints,
+            strain_limit,
             track: (b.track_dispatch.1 > 0).then(|| {
                 stage(
                     &kernels.track,
@@ -636,6 +653,8 @@ struct Projection {
     /// the hard pins' in the per-substep target array).
     soft_pins: Vec<pleat::constraint::Attachment>,
     hinge_count: u32,
+    /// Sweeps of the distances' strain limits after the iterations.
+    strain_limit_sweeps: u32,
     /// Constraints projected per iteration, pins included.
     constraint_count: usize,
 }
@@ -692,6 +711,7 @@ fn xpbd_projection(
         kinds,
         soft_pins,
         hinge_count: c.hinges.len() as u32,
+        strain_limit_sweeps: c.strain_limit_sweeps,
         constraint_count: c.len() + hard_pins,
     })
 }
@@ -724,6 +744,7 @@ fn jacobi_projection(
         constraint_count: jacobi.constraints.len() + hard_pins + soft_pins.len(),
         soft_pins,
         hinge_count: 0,
+        strain_limit_sweeps: 0,
     })
 }
 
@@ -983,6 +1004,11 @@ impl GpuBackend {
             for _ in 0..iterations {
                 for stage in &st.constraints {
                     dispatch(pass, stage, None);
+                }
+            }
+            if let Some((limit, sweeps)) = &st.strain_limit {
+                for _ in 0..*sweeps {
+                    dispatch(pass, limit, None);
                 }
             }
             if let Some(track) = &st.track {

@@ -38,6 +38,8 @@ pub struct Kernels {
     pub gather: wgpu::ComputePipeline,
     pub resolve: wgpu::ComputePipeline,
     pub distance: wgpu::ComputePipeline,
+    /// The distances' strain limits alone (hard, no multipliers).
+    pub distance_limit: wgpu::ComputePipeline,
     pub bending: wgpu::ComputePipeline,
     pub isometric: wgpu::ComputePipeline,
     pub hinge: wgpu::ComputePipeline,
@@ -152,6 +154,7 @@ impl Kernels {
             gather: pipeline(shaders::WIND, "gather", &with_kernel),
             resolve: pipeline(shaders::COLLIDE, "resolve", &with_kernel),
             distance: pipeline(shaders::DISTANCE, "solve", &with_kernel),
+            distance_limit: pipeline(shaders::DISTANCE, "limit", &with_kernel),
             bending: pipeline(shaders::BENDING, "solve", &with_kernel),
             isometric: pipeline(shaders::ISOMETRIC, "solve", &with_kernel),
             hinge: pipeline(shaders::HINGE, "solve", &with_kernel),

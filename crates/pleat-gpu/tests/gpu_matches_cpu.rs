@@ -54,6 +54,30 @@ fn distance_and_dihedral_bending_kernels() {
 }
 
 #[test]
+fn strain_limit_kernels() {
+    // Edges so soft that the limits hold the hanging cloth from the first frames.
+    let hanging = |limit: &str| {
+        cloth(
+            &format!(r#""stretch_compliance": 0.5, "shear_compliance": 0.5 {limit}"#),
+            r#", "pins": [ { "corners": ["top_left", "top_right"] } ]"#,
+        ) + "}"
+    };
+    let text = hanging(r#", "max_strain": 0.01"#);
+    one_frame_matches(&text, "distance with strain limits");
+    let stretch_after_10 = |text: &str| {
+        let scene = scene(text);
+        let mut c = cpu(&scene);
+        run(&mut c, &scene, 10);
+        c.metrics().max_stretch
+    };
+    let (limited, free) = (stretch_after_10(&text), stretch_after_10(&hanging("")));
+    assert!(
+        free > 1.05 && limited < 1.03,
+        "the limits hold: {limited} (without: {free})"
+    );
+}
+
+#[test]
 fn isometric_bending_tether_and_soft_pin_kernels() {
     let text = cloth(
         r#""bending": "isometric""#,

@@ -13,7 +13,8 @@
 //!
 //! Settings: `RAMP`, `SETTLE` (frames), `CC`, `FC` (crease and facet
 //! compliance per unit length), `SUB` (substeps), `ITER` (iterations a
-//! substep), `DAMP` (1/s), `STRETCH` (edge compliance per unit length), `NOISE` (metres of
+//! substep), `DAMP` (1/s), `STRETCH` (edge compliance per unit length), `MAX_STRAIN` (the edges'
+//! strain limit, 0 for none), `NOISE` (metres of
 //! random initial height). Output: `EVERY` (frames between lines, 20),
 //! `WRONG=1` (each crease on the wrong side at each line), `LIST=1` (each
 //! hinge more than 10 degrees from its target at the end).
@@ -80,6 +81,8 @@ fn main() {
     let mut material = paper_material();
     material.stretch_compliance = setting("STRETCH", material.stretch_compliance);
     material.shear_compliance = material.stretch_compliance;
+    let max_strain = setting("MAX_STRAIN", material.max_strain.unwrap_or(0.0));
+    material.max_strain = (max_strain > 0.0).then_some(max_strain);
     let defaults = PaperStiffness::default();
     let mut model = Model::default();
     model.add_paper(

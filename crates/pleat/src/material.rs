@@ -32,6 +32,11 @@ pub struct Material {
     pub stretch_compliance: f32,
     /// Compliance of diagonal (shear) edges of grid meshes (m/N).
     pub shear_compliance: f32,
+    /// Strain limit of XPBD's stretch and shear edges (Provot 1995): the
+    /// largest relative change of length an edge may take however hard it
+    /// is pulled or pushed (0.01: 1 %), on top of its compliance; `None`
+    /// for no limit. Paper folds with 1 %.
+    pub max_strain: Option<f32>,
     /// Compliance of bending (rad^2/J for the angle models, m/N for skip-one).
     pub bend_compliance: f32,
     pub bending: BendingModel,
@@ -79,6 +84,7 @@ impl Default for Material {
             density: 0.2,
             stretch_compliance: 0.0,
             shear_compliance: 1e-6,
+            max_strain: None,
             bend_compliance: 1.0,
             bending: BendingModel::Isometric,
             thickness: 0.005,

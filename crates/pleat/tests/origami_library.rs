@@ -3,7 +3,8 @@
 //! 120 frames of ramp and 60 to settle) at C = 0.25, 0.5 and 1: no NaN, no
 //! instability, facet strain within 2 %, and at C = 1 every driven crease
 //! within 5 degrees of its target on the patterns Origami Simulator folds
-//! to within 1 degree (issue 12).
+//! to within 1 degree, and level with Origami Simulator on the patterns it
+//! leaves far from their targets (issue 12).
 
 use std::path::{Path, PathBuf};
 
@@ -26,6 +27,16 @@ const WITHIN_FIVE_DEGREES: [&str; 6] = [
     "hypar.svg",
     "miura-ori.svg",
     "reschTriTessellation.svg",
+];
+
+/// Origami Simulator's largest fold-angle error at full progress (issue 12,
+/// its defaults, in whole degrees) on the patterns it leaves far from their
+/// targets: pleat must end within its rounding, half a degree.
+const ORIGAMI_SIMULATOR_AT_ONE: [(&str, f32); 4] = [
+    ("huffmanWaterbomb.svg", 82.0),
+    ("waterbombTwist.svg", 82.0),
+    ("traditionalCrane.svg", 87.0),
+    ("huffmanTower.svg", 21.0),
 ];
 
 fn files() -> Vec<PathBuf> {
@@ -89,10 +100,18 @@ fn every_library_pattern_folds_stably_with_little_strain() {
             "{name} at {c}: strain {} over {STRAIN_LIMIT}",
             m.max_strain
         );
+        let e = m.max_fold_angle_error_deg;
+        let worst = e.mountain.max(e.valley);
         if *c == 1.0 && WITHIN_FIVE_DEGREES.contains(&name.as_str()) {
-            let e = m.max_fold_angle_error_deg;
-            let worst = e.mountain.max(e.valley);
             assert!(worst < 5.0, "{name}: fold-angle error {worst} degrees");
+        }
+        if let Some((_, theirs)) = ORIGAMI_SIMULATOR_AT_ONE.iter().find(|(n, _)| n == name) {
+            if *c == 1.0 {
+                assert!(
+                    worst < theirs + 0.5,
+                    "{name}: fold-angle error {worst} degrees, Origami Simulator's {theirs}"
+                );
+            }
         }
     }
 }

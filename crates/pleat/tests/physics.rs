@@ -117,9 +117,9 @@ fn pinned_cloth_comes_to_rest() {
     );
 }
 
-/// Relative elongation of a soft hanging strip (2 x 12 particles, pinned at
-/// its top corners) once it has settled.
-fn settled_elongation(iterations: u32) -> f32 {
+/// A soft hanging strip (2 x 12 particles, pinned at its top corners) of
+/// stretch compliance `compliance`, settled for 10 s.
+fn settled_strip(iterations: u32, compliance: f32, max_strain: Option<f32>) -> Simulation {
     let mut scene = hanging_cloth(2, 20, false);
     if let pleat::scene::MeshSpec::Grid(grid) = &mut scene.cloths[0].mesh {
         grid.resolution = [2, 12];
@@ -127,12 +127,34 @@ fn settled_elongation(iterations: u32) -> f32 {
     }
     scene.solver.iterations = iterations;
     scene.solver.damping = 5.0;
-    scene.cloths[0].material.stretch_compliance = 2e-2;
-    scene.cloths[0].material.shear_compliance = 2e-2;
+    let material = &mut scene.cloths[0].material;
+    material.stretch_compliance = compliance;
+    material.shear_compliance = compliance;
+    material.max_strain = max_strain;
     let mut sim = build(&scene);
     run(&mut sim, 600, 1.0 / 60.0);
+    sim
+}
+
+/// Relative elongation of the soft strip once it has settled.
+fn settled_elongation(iterations: u32) -> f32 {
+    let sim = settled_strip(iterations, 2e-2, None);
     let length = sim.particles.x[0].distance(sim.particles.x[22]);
     length - 1.0
+}
+
+#[test]
+fn a_strain_limit_holds_a_soft_strip_at_its_limit() {
+    let free = settled_strip(1, 0.2, None).metrics();
+    assert!(free.max_stretch > 1.05, "unlimited: {}", free.max_stretch);
+    let limited = settled_strip(1, 0.2, Some(0.01)).metrics();
+    assert!(!limited.nan);
+    // Every edge stops at 1 %: the soft strip hangs on its limits.
+    assert!(
+        (1.009..=1.0105).contains(&limited.max_stretch),
+        "limited to 1 %: {}",
+        limited.max_stretch
+    );
 }
 
 #[test]

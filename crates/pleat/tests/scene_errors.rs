@@ -319,6 +319,16 @@ fn stiffness_gradient_of_one() {
 }
 
 #[test]
+fn negative_strain_limit() {
+    let json = with_material("\"max_strain\": -0.01");
+    assert_error(
+        &json,
+        "cloths[0].material.max_strain",
+        "must be a positive number",
+    );
+}
+
+#[test]
 fn stiffness_weights_of_the_wrong_count() {
     let json = GOOD.replace("\"pins\"", "\"stiffness_weights\": [1, 1, 1], \"pins\"");
     assert_error(

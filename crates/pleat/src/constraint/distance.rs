@@ -1,5 +1,7 @@
 //! Distance constraint `C = |x_a - x_b| - rest_length`: stretch and shear
-//! edges, and the classic skip-one bending springs.
+//! edges, and the classic skip-one bending springs; with an optional strain
+//! limit (Provot 1995), a hard bound `|C| <= max_stretch` on top of the
+//! compliant constraint, so that a soft edge still cannot stretch far.
 
 use crate::solver::parallel::{Constraint, SharedPositions};
 use glam::Vec3;
@@ -14,7 +16,13 @@ pub struct DistanceConstraint {
     /// Entry of the live compliance table this constraint's compliance is
     /// a factor of ([`super::compliances`]; slot 0: the compliance as built).
     pub slot: u32,
+    /// Largest change of length the edge may take, however hard it is
+    /// pulled (m; [`NO_STRAIN_LIMIT`] for none).
+    pub max_stretch: f32,
 }
+
+/// The `max_stretch` of an edge without a strain limit.
+pub const NO_STRAIN_LIMIT: f32 = f32::MAX;
 
 impl DistanceConstraint {
     /// A constraint at rest at the current distance between `a` and `b`.
@@ -25,6 +33,47 @@ impl DistanceConstraint {
             rest_length,
             compliance,
             slot: 0,
+            max_stretch: NO_STRAIN_LIMIT,
+        }
+    }
+
+    /// The same edge kept within `max_strain` (a fraction of its rest
+    /// length) of its rest length; `None` leaves it unlimited.
+    pub fn with_strain_limit(self, max_strain: Option<f32>) -> Self {
+        DistanceConstraint {
+            max_stretch: max_strain.map_or(NO_STRAIN_LIMIT, |s| s * self.rest_length),
+            ..self
+        }
+    }
+
+    /// Whether the edge has a strain limit.
+    pub fn is_limited(&self) -> bool {
+        self.max_stretch < NO_STRAIN_LIMIT
+    }
+
+    /// Moves the two ends along the edge (`n`, from b to a) so that its
+    /// `C` comes back within the limit: a hard projection of the excess
+    /// alone, with no multiplier.
+    #[inline]
+    fn limit(&self, c: f32, n: Vec3, x: SharedPositions, (wa, wb): (f32, f32)) {
+        let excess = c - c.clamp(-self.max_stretch, self.max_stretch);
+        if excess != 0.0 {
+            let s = excess / (wa + wb);
+            x.add(self.v[0], n * (-wa * s));
+            x.add(self.v[1], n * (wb * s));
+        }
+    }
+
+    /// One strain-limit projection on its own (the sweeps after the
+    /// iterations of a substep).
+    pub fn project_limit(&self, x: SharedPositions, inv_mass: &[f32]) {
+        let [a, b] = self.v;
+        let (wa, wb) = (inv_mass[a as usize], inv_mass[b as usize]);
+        if wa + wb == 0.0 {
+            return;
+        }
+        if let Some((c, n)) = self.evaluate(x.get(a), x.get(b)) {
+            self.limit(c, n, x, (wa, wb));
         }
     }
 
@@ -61,6 +110,8 @@ impl Constraint for DistanceConstraint {
         *lambda += dlambda;
         x.add(a, n * (wa * dlambda));
         x.add(b, n * (-wb * dlambda));
+        // The projection moved the ends along n: C is now c + w dlambda.
+        self.limit(c + w * dlambda, n, x, (wa, wb));
     }
 }
 
@@ -76,6 +127,7 @@ mod tests {
             rest_length: 0.7,
             compliance: 0.0,
             slot: 0,
+            max_stretch: NO_STRAIN_LIMIT,
         };
         let x = [Vec3::new(0.1, 0.2, -0.3), Vec3::new(0.9, -0.4, 0.5)];
         let (_, ga) = c.evaluate(x[0], x[1]).unwrap();
@@ -92,6 +144,7 @@ mod tests {
             rest_length: 1.0,
             compliance: 0.0,
             slot: 0,
+            max_stretch: NO_STRAIN_LIMIT,
         };
         let mut lambda = 0.0;
         c.project(
@@ -106,5 +159,27 @@ mod tests {
             (x[0].x - 0.25).abs() < 1e-6 && (x[1].x - 1.25).abs() < 1e-6,
             "{x:?}"
         );
+    }
+
+    #[test]
+    fn a_soft_edge_stops_at_its_strain_limit() {
+        // So soft that one projection alone would hardly move it.
+        let soft = DistanceConstraint::at_rest([0, 1], &[Vec3::ZERO, Vec3::X], 1e3);
+        let project = |c: DistanceConstraint, stretched: f32| {
+            let mut x = vec![Vec3::ZERO, Vec3::X * stretched];
+            c.project(&mut 0.0, SharedPositions::new(&mut x), &[1.0, 1.0], 3600.0);
+            x[0].distance(x[1])
+        };
+        assert!(project(soft, 1.2) > 1.19, "unlimited, it stays stretched");
+        let limited = soft.with_strain_limit(Some(0.01));
+        assert!((project(limited, 1.2) - 1.01).abs() < 1e-5);
+        assert!((project(limited, 0.7) - 0.99).abs() < 1e-5, "compressed");
+        // Within the limit, the constraint is as compliant as before.
+        assert_eq!(project(limited, 1.005), project(soft, 1.005));
+        // The limit alone: light ends move more, the edge ends at the bound.
+        let mut x = vec![Vec3::ZERO, Vec3::X * 1.5];
+        limited.project_limit(SharedPositions::new(&mut x), &[1.0, 3.0]);
+        assert!((x[0].distance(x[1]) - 1.01).abs() < 1e-5);
+        assert!((x[1].x - 1.5 + 3.0 * x[0].x).abs() < 1e-5, "{x:?}");
     }
 }

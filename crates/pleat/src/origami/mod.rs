@@ -22,7 +22,8 @@ pub use fold::{parse_fold, to_fold_json};
 pub use folding::{
     folded_state_fold, hinge_states, paper_material, paper_model, paper_simulation,
     paper_simulation_on, paper_solver_settings, FoldAngleErrors, FoldMetrics, FoldRamp, HingeState,
-    Paper, PaperStiffness, WorstFacet, WorstHinge, PAPER_STRETCH_COMPLIANCE, PAPER_VERTEX_MASS,
+    Paper, PaperStiffness, WorstFacet, WorstHinge, PAPER_MAX_STRAIN, PAPER_STRETCH_COMPLIANCE,
+    PAPER_VERTEX_MASS,
 };
 pub use pattern::{
     load_pattern, load_pattern_with_warnings, parse_pattern, Assignment, CreasePattern,

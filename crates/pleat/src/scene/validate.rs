@@ -177,6 +177,9 @@ impl Validator<'_> {
             &format!("{path}.material.shear_compliance"),
             m.shear_compliance,
         );
+        if let Some(s) = m.max_strain {
+            self.positive(&format!("{path}.material.max_strain"), s);
+        }
         self.non_negative(
             &format!("{path}.material.bend_compliance"),
             m.bend_compliance,

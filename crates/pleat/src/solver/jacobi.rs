@@ -172,12 +172,7 @@ mod tests {
 
     #[test]
     fn correction_restores_rest_length_at_full_stiffness() {
-        let c = DistanceConstraint {
-            v: [0, 1],
-            rest_length: 1.0,
-            compliance: 0.0,
-            slot: 0,
-        };
+        let c = DistanceConstraint::at_rest([0, 1], &[Vec3::ZERO, Vec3::X], 0.0);
         let x = [Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0)];
         let [da, db] = correction(&c, 1.0, &x, &[1.0, 3.0]);
         assert!(((x[1] + db).distance(x[0] + da) - 1.0).abs() < 1e-6);

@@ -119,4 +119,16 @@ impl<C: Constraint> ColoredConstraints<C> {
                 });
         }
     }
+
+    /// One Gauss-Seidel sweep of a projection without multipliers (a hard
+    /// bound such as a strain limit), colour after colour.
+    pub fn sweep(&self, x: &mut [Vec3], project: impl Fn(&C, SharedPositions) + Sync) {
+        let shared = SharedPositions::new(x);
+        for range in &self.colors {
+            self.items[range.clone()]
+                .par_iter()
+                .with_min_len(MIN_TASK)
+                .for_each(|c| project(c, shared));
+        }
+    }
 }

@@ -24,6 +24,12 @@ use rayon::prelude::*;
 /// Pins a tethered particle hangs from (its nearest ones).
 const TETHERS_PER_PARTICLE: usize = 2;
 
+/// Sweeps of the strain limits alone after a substep's iterations (where
+/// any edge has one): one sweep inside the iterations leaves a tense sheet
+/// at twice its limit, since each edge's correction stretches its
+/// neighbours.
+pub const STRAIN_LIMIT_SWEEPS: u32 = 2;
+
 pub struct Xpbd {
     settings: SolverSettings,
     /// The live compliance table, copied in at every step.
@@ -50,6 +56,9 @@ pub struct XpbdConstraints {
     pub tethers: ColoredConstraints<Tether>,
     /// Attachments with compliance: solved with the other constraints.
     pub soft_attachments: ColoredConstraints<Attachment>,
+    /// Sweeps of the distances' strain limits after the iterations:
+    /// [`STRAIN_LIMIT_SWEEPS`] where an edge has a limit, else none.
+    pub strain_limit_sweeps: u32,
 }
 
 impl XpbdConstraints {
@@ -96,7 +105,13 @@ impl XpbdConstraints {
             }
         }
         let (_, soft) = attachments(model);
+        let strain_limit_sweeps = if distance.iter().any(DistanceConstraint::is_limited) {
+            STRAIN_LIMIT_SWEEPS
+        } else {
+            0
+        };
         XpbdConstraints {
+            strain_limit_sweeps,
             distance: ColoredConstraints::new(distance, n),
             bending: ColoredConstraints::new(bending, n),
             isometric: ColoredConstraints::new(isometric, n),
@@ -130,7 +145,8 @@ impl XpbdConstraints {
 
     /// One substep's projection: `iterations` Gauss-Seidel sweeps from zero
     /// multipliers with the soft attachments' targets at `t_end` and the
-    /// live `compliances`, then the hinges' tracked angles.
+    /// live `compliances`, the strain limits' own sweeps, then the hinges'
+    /// tracked angles.
     fn project(
         &mut self,
         p: &mut Particles,
@@ -155,6 +171,10 @@ impl XpbdConstraints {
             self.isometric.solve(x, w, inv_dt2, compliances);
             self.soft_attachments.solve(x, w, inv_dt2, compliances);
             self.tethers.solve(x, w, inv_dt2, compliances);
+        }
+        for _ in 0..self.strain_limit_sweeps {
+            let w = &p.inv_mass;
+            self.distance.sweep(&mut p.x, |c, x| c.project_limit(x, w));
         }
         let x = &p.x;
         self.hinges
@@ -288,7 +308,8 @@ fn edge_constraints<'a>(
         } else {
             ComplianceKind::Stretch
         };
-        let mut c = DistanceConstraint::at_rest(e.v.map(|i| cloth.global(i)), rest, 1.0);
+        let mut c = DistanceConstraint::at_rest(e.v.map(|i| cloth.global(i)), rest, 1.0)
+            .with_strain_limit(cloth.material.max_strain);
         if cloth.paper.is_some() {
             // Paper's stretch compliance is per unit of edge length.
             c.compliance = c.rest_length;
