@@ -167,7 +167,7 @@ fn sweep(
                     for _ in 0..frames {
                         sim.step(s.frame_dt());
                     }
-                    Ok(!sim.stability.is_unstable())
+                    Ok(sim.stability.verdict().is_none())
                 })
                 .collect::<Result<Vec<_>, String>>()?;
             Ok(SweepRow {

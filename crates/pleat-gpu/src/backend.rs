@@ -522,7 +522,8 @@ impl Stages {
         let strain_limit = b
             .constraints
             .iter()
-            .find(|k| k.kind == ConstraintKind::Distance && b.strain_limit_sweeps > 0)
+            .find(|k| k.kind == ConstraintKind::Distance)
+            .filter(|_| b.strain_limit_sweeps > 0)
             .map(|k| {
                 let buffers = [&k.items, &k.lambda, &per_substep.targets, &spare[0]];
                 let limit = stage(&kernels.distance_limit, buffers, k.dispatches.clone());

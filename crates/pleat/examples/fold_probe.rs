@@ -147,7 +147,7 @@ fn main() {
             e.valley,
             e.flat,
             m.max_strain,
-            sim.stability.is_unstable(),
+            sim.stability.verdict().is_some(),
             sim.metrics().kinetic_energy,
             angular_momentum(&sim)
         );

@@ -308,14 +308,17 @@ fn edge_constraints<'a>(
         } else {
             ComplianceKind::Stretch
         };
-        let mut c = DistanceConstraint::at_rest(e.v.map(|i| cloth.global(i)), rest, 1.0)
+        let c = DistanceConstraint::at_rest(e.v.map(|i| cloth.global(i)), rest, 1.0)
             .with_strain_limit(cloth.material.max_strain);
-        if cloth.paper.is_some() {
-            // Paper's stretch compliance is per unit of edge length.
-            c.compliance = c.rest_length;
-        }
+        // Paper's stretch compliance is per unit of edge length.
+        let compliance = if cloth.paper.is_some() {
+            c.rest_length
+        } else {
+            1.0
+        };
         DistanceConstraint {
             slot: Compliances::slot(index, kind),
+            compliance,
             ..c
         }
     })
