@@ -127,7 +127,10 @@ pub struct GpuBackend {
 struct KernelBuffers {
     /// Items and lambdas of each constraint kind, in projection order.
     constraints: Vec<ConstraintBuffers>,
-    /// Sweeps of the distances' strain limits after the iterations.
+    /// Sweeps of the distances' strain limits after the iterations: the
+    /// CPU's first [`pleat::solver::xpbd::STRAIN_LIMIT_SWEEPS`], not the
+    /// further ones it runs while an edge is still far beyond its limit
+    /// (each would be a dispatch per colour, every substep).
     strain_limit_sweeps: u32,
     hard_pins: wgpu::Buffer,
     pin_dispatch: (u32, u32),

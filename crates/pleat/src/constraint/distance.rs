@@ -65,16 +65,20 @@ impl DistanceConstraint {
     }
 
     /// One strain-limit projection on its own (the sweeps after the
-    /// iterations of a substep).
-    pub fn project_limit(&self, x: SharedPositions, inv_mass: &[f32]) {
+    /// iterations of a substep). Returns how far the edge was beyond
+    /// `slack` times its limit before the projection, as a strain
+    /// (negative within it): the sweeps go on while some edge is.
+    pub fn project_limit(&self, x: SharedPositions, inv_mass: &[f32], slack: f32) -> f32 {
         let [a, b] = self.v;
         let (wa, wb) = (inv_mass[a as usize], inv_mass[b as usize]);
-        if wa + wb == 0.0 {
-            return;
+        if wa + wb == 0.0 || !self.is_limited() {
+            return f32::NEG_INFINITY;
         }
-        if let Some((c, n)) = self.evaluate(x.get(a), x.get(b)) {
-            self.limit(c, n, x, (wa, wb));
-        }
+        let Some((c, n)) = self.evaluate(x.get(a), x.get(b)) else {
+            return f32::NEG_INFINITY;
+        };
+        self.limit(c, n, x, (wa, wb));
+        (c.abs() - slack * self.max_stretch) / self.rest_length.max(f32::MIN_POSITIVE)
     }
 
     /// `C` and its gradient with respect to `x_a` (the gradient for `x_b` is its negative).
@@ -178,8 +182,30 @@ mod tests {
         assert_eq!(project(limited, 1.005), project(soft, 1.005));
         // The limit alone: light ends move more, the edge ends at the bound.
         let mut x = vec![Vec3::ZERO, Vec3::X * 1.5];
-        limited.project_limit(SharedPositions::new(&mut x), &[1.0, 3.0]);
+        let beyond = limited.project_limit(SharedPositions::new(&mut x), &[1.0, 3.0], 2.0);
         assert!((x[0].distance(x[1]) - 1.01).abs() < 1e-5);
         assert!((x[1].x - 1.5 + 3.0 * x[0].x).abs() < 1e-5, "{x:?}");
+        // It was 50 % long: 48 % beyond twice its limit.
+        assert!((beyond - 0.48).abs() < 1e-5, "{beyond}");
+    }
+
+    #[test]
+    fn the_limit_alone_says_how_far_beyond_its_slack_an_edge_was() {
+        let edge = DistanceConstraint::at_rest([0, 1], &[Vec3::ZERO, Vec3::X * 2.0], 0.0)
+            .with_strain_limit(Some(0.01));
+        let beyond = |length: f32| {
+            let mut x = vec![Vec3::ZERO, Vec3::X * length];
+            edge.project_limit(SharedPositions::new(&mut x), &[1.0, 1.0], 1.8)
+        };
+        // Within 1.8 times its 1 % limit, stretched or compressed: negative.
+        assert!((beyond(2.02) + 0.008).abs() < 1e-5);
+        assert!((beyond(1.95) - 0.007).abs() < 1e-5);
+        assert!(beyond(2.0) < 0.0);
+        // An edge with no limit never asks for another sweep.
+        let free = DistanceConstraint::at_rest([0, 1], &[Vec3::ZERO, Vec3::X], 0.0);
+        let mut x = vec![Vec3::ZERO, Vec3::X * 3.0];
+        let never = free.project_limit(SharedPositions::new(&mut x), &[1.0, 1.0], 1.8);
+        assert_eq!(never, f32::NEG_INFINITY);
+        assert_eq!(x[1], Vec3::X * 3.0);
     }
 }

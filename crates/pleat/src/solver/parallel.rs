@@ -121,14 +121,24 @@ impl<C: Constraint> ColoredConstraints<C> {
     }
 
     /// One Gauss-Seidel sweep of a projection without multipliers (a hard
-    /// bound such as a strain limit), colour after colour.
-    pub fn sweep(&self, x: &mut [Vec3], project: impl Fn(&C, SharedPositions) + Sync) {
+    /// bound such as a strain limit), colour after colour; returns the
+    /// largest of what `project` returns (how far a constraint was from
+    /// satisfied before its projection).
+    pub fn sweep(
+        &self,
+        x: &mut [Vec3],
+        project: impl Fn(&C, SharedPositions) -> f32 + Sync,
+    ) -> f32 {
         let shared = SharedPositions::new(x);
-        for range in &self.colors {
-            self.items[range.clone()]
-                .par_iter()
-                .with_min_len(MIN_TASK)
-                .for_each(|c| project(c, shared));
-        }
+        self.colors
+            .iter()
+            .map(|range| {
+                self.items[range.clone()]
+                    .par_iter()
+                    .with_min_len(MIN_TASK)
+                    .map(|c| project(c, shared))
+                    .reduce(|| f32::NEG_INFINITY, f32::max)
+            })
+            .fold(f32::NEG_INFINITY, f32::max)
     }
 }

@@ -30,6 +30,17 @@ const TETHERS_PER_PARTICLE: usize = 2;
 /// neighbours.
 pub const STRAIN_LIMIT_SWEEPS: u32 = 2;
 
+/// Most sweeps of the strain limits in one substep: past the first
+/// [`STRAIN_LIMIT_SWEEPS`], more follow while an edge is still beyond
+/// [`STRAIN_LIMIT_SLACK`] times its limit (a sheet jammed by creases that
+/// fight, where each edge's correction stretches its neighbours and two
+/// sweeps leave the densest patterns at four to nine times the limit).
+pub const MAX_STRAIN_LIMIT_SWEEPS: u32 = 24;
+
+/// How far past its limit an edge may be left at the end of a substep, as
+/// a multiple of the limit, before more sweeps follow.
+pub const STRAIN_LIMIT_SLACK: f32 = 1.8;
+
 pub struct Xpbd {
     settings: SolverSettings,
     /// The live compliance table, copied in at every step.
@@ -172,16 +183,33 @@ impl XpbdConstraints {
             self.soft_attachments.solve(x, w, inv_dt2, compliances);
             self.tethers.solve(x, w, inv_dt2, compliances);
         }
-        for _ in 0..self.strain_limit_sweeps {
-            let w = &p.inv_mass;
-            self.distance.sweep(&mut p.x, |c, x| c.project_limit(x, w));
-        }
+        self.sweep_strain_limits(p);
         let x = &p.x;
         self.hinges
             .items
             .par_iter_mut()
             .with_min_len(2048)
             .for_each(|h| h.track(|i| x[i as usize]));
+    }
+}
+
+impl XpbdConstraints {
+    /// The strain limits' own sweeps: [`STRAIN_LIMIT_SWEEPS`], then more
+    /// while the last found an edge beyond [`STRAIN_LIMIT_SLACK`] times
+    /// its limit, up to [`MAX_STRAIN_LIMIT_SWEEPS`].
+    fn sweep_strain_limits(&self, p: &mut Particles) {
+        if self.strain_limit_sweeps == 0 {
+            return;
+        }
+        let w = &p.inv_mass;
+        for sweep in 1..=MAX_STRAIN_LIMIT_SWEEPS {
+            let beyond = self
+                .distance
+                .sweep(&mut p.x, |c, x| c.project_limit(x, w, STRAIN_LIMIT_SLACK));
+            if sweep >= self.strain_limit_sweeps && beyond <= 0.0 {
+                break;
+            }
+        }
     }
 }
 
