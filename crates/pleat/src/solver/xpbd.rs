@@ -67,8 +67,8 @@ pub struct XpbdConstraints {
     pub tethers: ColoredConstraints<Tether>,
     /// Attachments with compliance: solved with the other constraints.
     pub soft_attachments: ColoredConstraints<Attachment>,
-    /// Sweeps of the distances' strain limits after the iterations:
-    /// [`STRAIN_LIMIT_SWEEPS`] where an edge has a limit, else none.
+    /// Sweeps of the distances' strain limits after the iterations, at the
+    /// least: [`STRAIN_LIMIT_SWEEPS`] where an edge has a limit, else none.
     pub strain_limit_sweeps: u32,
 }
 
@@ -191,9 +191,7 @@ impl XpbdConstraints {
             .with_min_len(2048)
             .for_each(|h| h.track(|i| x[i as usize]));
     }
-}
 
-impl XpbdConstraints {
     /// The strain limits' own sweeps: [`STRAIN_LIMIT_SWEEPS`], then more
     /// while the last found an edge beyond [`STRAIN_LIMIT_SLACK`] times
     /// its limit, up to [`MAX_STRAIN_LIMIT_SWEEPS`].
