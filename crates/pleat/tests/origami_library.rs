@@ -29,14 +29,16 @@ const WITHIN_FIVE_DEGREES: [&str; 6] = [
     "reschTriTessellation.svg",
 ];
 
-/// Origami Simulator's largest fold-angle error at full progress (issue 12,
-/// its defaults, in whole degrees) on the patterns it leaves far from their
-/// targets: pleat must end within its rounding, half a degree.
+/// Origami Simulator's largest fold-angle error at full progress on the
+/// patterns it leaves far from their targets (its own page run headless,
+/// its defaults, settled: docs/origami.md; waterbombTwist, removed upstream,
+/// as issue 12 gives it, and huffmanTower after 300 s, not settled): pleat
+/// must end within half a degree of it.
 const ORIGAMI_SIMULATOR_AT_ONE: [(&str, f32); 4] = [
-    ("huffmanWaterbomb.svg", 82.0),
+    ("huffmanWaterbomb.svg", 81.91),
     ("waterbombTwist.svg", 82.0),
-    ("traditionalCrane.svg", 87.0),
-    ("huffmanTower.svg", 21.0),
+    ("traditionalCrane.svg", 87.05),
+    ("huffmanTower.svg", 20.85),
 ];
 
 fn files() -> Vec<PathBuf> {
