@@ -1,6 +1,7 @@
 // Origami hinges, one colour per dispatch, and the tracking of their
 // continuous fold angle after each substep (crate::constraint::hinge). The
-// target is the fold progress (a uniform) times the full angle.
+// target is the fold progress (a uniform) times the full angle; driven
+// creases are stiffening springs, flat hinges linear.
 
 struct Hinge {
     v: array<u32, 4>,
@@ -18,6 +19,16 @@ struct Hinge {
 
 const MAX_TARGET_ANGLE: f32 = 178.0 * PI / 180.0;
 const MAX_TRACKED_ANGLE: f32 = 1.25 * PI;
+const STIFFENING_ANGLE: f32 = PI / 2.0;
+
+// A driven crease's stiffening spring (crate::constraint::hinge::stiffened_error):
+// the constraint for the error e in x, its slope in y.
+fn stiffened_error(e: f32) -> vec2<f32> {
+    let inner = clamp(e, -STIFFENING_ANGLE, STIFFENING_ANGLE);
+    let k = 1.0 / (STIFFENING_ANGLE * STIFFENING_ANGLE);
+    let c = inner + inner * inner * inner * k / 3.0 + 2.0 * (e - inner);
+    return vec2<f32>(c, 1.0 + inner * inner * k);
+}
 
 // The branch phi + 2 pi k nearest the tracked angle.
 fn unwrap_angle(tracked: f32, phi: f32) -> f32 {
@@ -41,8 +52,18 @@ fn solve(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups)
         return;
     }
     let target_angle = clamp(params.progress * h.full_angle, -MAX_TARGET_ANGLE, MAX_TARGET_ANGLE);
-    let c = unwrap_angle(h.angle, d.phi) - target_angle;
-    lambda[j] = project_four(h.v, alpha_of(h.compliance, h.slot), c, d, lambda[j]);
+    let error = unwrap_angle(h.angle, d.phi) - target_angle;
+    if h.full_angle == 0.0 {
+        lambda[j] = project_four(h.v, alpha_of(h.compliance, h.slot), error, d, lambda[j]);
+        return;
+    }
+    let s = stiffened_error(error);
+    var ds = d;
+    ds.g0 *= s.y;
+    ds.g1 *= s.y;
+    ds.g2 *= s.y;
+    ds.g3 *= s.y;
+    lambda[j] = project_four(h.v, alpha_of(h.compliance, h.slot), s.x, ds, lambda[j]);
 }
 
 @compute @workgroup_size(256)

@@ -81,6 +81,19 @@ fn strain_limit_kernels() {
 }
 
 #[test]
+fn origami_hinge_kernels() {
+    // Every crease of the waterbomb base driven to its full angle from the
+    // flat sheet at once: errors from 178 degrees down pass through both
+    // parts of the stiffening spring, the facet diagonals stay linear.
+    let text = r#"{ "name": "k", "frames": 1, "fps": 60, "gravity": [0, 0, 0],
+        "solver": { "substeps": 4 },
+        "cloths": [ { "mesh": { "pattern": { "builtin": "waterbomb-base", "size": 1.0 } },
+                      "material": { "density": 0.08, "thickness": 0.0 } } ],
+        "fold": { "progress": 1.0, "frames_to_fold": 0 } }"#;
+    one_frame_matches(text, "origami hinges");
+}
+
+#[test]
 fn isometric_bending_tether_and_soft_pin_kernels() {
     let text = cloth(
         r#""bending": "isometric""#,

@@ -3,8 +3,8 @@
 //! 120 frames of ramp and 60 to settle) at C = 0.25, 0.5 and 1: no NaN, no
 //! instability, facet strain within 2 %, and at C = 1 every driven crease
 //! within 5 degrees of its target on the patterns Origami Simulator folds
-//! to within 1 degree, and level with Origami Simulator on the patterns it
-//! leaves far from their targets (issue 12).
+//! to within 1 degree, and no further from the targets than Origami
+//! Simulator on the patterns it leaves far from them (issue 12).
 
 use std::path::{Path, PathBuf};
 
@@ -31,12 +31,12 @@ const WITHIN_FIVE_DEGREES: [&str; 6] = [
 
 /// Origami Simulator's largest fold-angle error at full progress on the
 /// patterns it leaves far from their targets (its own page run headless,
-/// its defaults, settled: docs/origami.md; waterbombTwist, removed upstream,
-/// as issue 12 gives it, and huffmanTower after 300 s, not settled): pleat
-/// must end within half a degree of it.
+/// its defaults, settled: docs/origami.md; huffmanTower after 300 s, not
+/// settled; waterbombTwist, removed upstream, as issue 12 gives it: 82
+/// rounded, so at least 81.5): pleat's must be no larger.
 const ORIGAMI_SIMULATOR_AT_ONE: [(&str, f32); 4] = [
     ("huffmanWaterbomb.svg", 81.91),
-    ("waterbombTwist.svg", 82.0),
+    ("waterbombTwist.svg", 81.5),
     ("traditionalCrane.svg", 87.05),
     ("huffmanTower.svg", 20.85),
 ];
@@ -112,7 +112,7 @@ fn every_library_pattern_folds_stably_with_little_strain() {
         }
         if let Some((_, theirs)) = ORIGAMI_SIMULATOR_AT_ONE.iter().find(|(n, _)| n == name) {
             assert!(
-                worst < theirs + 0.5,
+                worst <= *theirs,
                 "{name}: fold-angle error {worst} degrees, Origami Simulator's {theirs}"
             );
         }
