@@ -34,8 +34,9 @@ struct Params {
     // Coulomb friction between layers.
     contact_static: f32,
     contact_kinetic: f32,
-    pad0: u32,
-    pad1: u32,
+    // 1 while the fold progress is held: driven creases stiffen.
+    fold_held: u32,
+    pad: u32,
 }
 
 // The slice of a constraint array one dispatch works on (one colour).

@@ -1,7 +1,7 @@
 // Origami hinges, one colour per dispatch, and the tracking of their
 // continuous fold angle after each substep (crate::constraint::hinge). The
 // target is the fold progress (a uniform) times the full angle; driven
-// creases are stiffening springs, flat hinges linear.
+// creases are stiffening springs while the fold is held, flat hinges linear.
 
 struct Hinge {
     v: array<u32, 4>,
@@ -11,6 +11,8 @@ struct Hinge {
     compliance: f32,
     angle: f32,
     slot: u32,
+    // Unused here: whether the fold is held comes from params.fold_held.
+    stiffen: u32,
 }
 
 @group(1) @binding(0) var<storage, read_write> items: array<Hinge>;
@@ -24,10 +26,22 @@ const STIFFENING_ANGLE: f32 = PI / 2.0;
 // A driven crease's stiffening spring (crate::constraint::hinge::stiffened_error):
 // the constraint for the error e in x, its slope in y.
 fn stiffened_error(e: f32) -> vec2<f32> {
-    let inner = clamp(e, -STIFFENING_ANGLE, STIFFENING_ANGLE);
-    let k = 1.0 / (STIFFENING_ANGLE * STIFFENING_ANGLE);
-    let c = inner + inner * inner * inner * k / 3.0 + 2.0 * (e - inner);
-    return vec2<f32>(c, 1.0 + inner * inner * k);
+    let s = STIFFENING_ANGLE;
+    let k = 1.0 / (s * s);
+    let a = abs(e);
+    var cs: vec2<f32>;
+    if a <= s {
+        cs = vec2<f32>(a + a * a * a * k / 3.0, 1.0 + a * a * k);
+    } else if a <= 2.0 * s {
+        let r = 2.0 * s - a;
+        cs = vec2<f32>(a + s / 3.0 + (s * s * s - r * r * r) * k / 3.0, 1.0 + r * r * k);
+    } else {
+        cs = vec2<f32>(a + 2.0 * s / 3.0, 1.0);
+    }
+    if e < 0.0 {
+        cs.x = -cs.x;
+    }
+    return cs;
 }
 
 // The branch phi + 2 pi k nearest the tracked angle.
@@ -53,7 +67,7 @@ fn solve(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups)
     }
     let target_angle = clamp(params.progress * h.full_angle, -MAX_TARGET_ANGLE, MAX_TARGET_ANGLE);
     let error = unwrap_angle(h.angle, d.phi) - target_angle;
-    if h.full_angle == 0.0 {
+    if h.full_angle == 0.0 || params.fold_held == 0u {
         lambda[j] = project_four(h.v, alpha_of(h.compliance, h.slot), error, d, lambda[j]);
         return;
     }

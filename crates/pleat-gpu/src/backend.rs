@@ -121,6 +121,8 @@ pub struct GpuBackend {
     hard_pins: Vec<pleat::constraint::Attachment>,
     soft_pins: Vec<pleat::constraint::Attachment>,
     progress: f32,
+    /// Whether the fold progress is held (driven creases stiffen).
+    fold_held: bool,
 }
 
 /// Buffers of the kernels of group 1, by kernel.
@@ -381,6 +383,7 @@ impl GpuBackend {
             hard_pins,
             soft_pins,
             progress: 0.0,
+            fold_held: false,
         };
         Ok((backend, notes))
     }
@@ -943,7 +946,7 @@ impl GpuBackend {
                 world,
                 settings,
                 &self.counts,
-                self.progress,
+                (self.progress, self.fold_held),
                 (s as u32, t, dt),
             );
             let at = s * UNIFORM_STRIDE as usize;
@@ -1186,6 +1189,10 @@ impl Backend for GpuBackend {
 
     fn set_fold_progress(&mut self, c: f32) {
         self.progress = c;
+    }
+
+    fn set_fold_held(&mut self, held: bool) {
+        self.fold_held = held;
     }
 
     fn finish(&mut self, stages: &mut StageTimes) {

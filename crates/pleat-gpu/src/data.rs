@@ -42,7 +42,9 @@ pub struct Params {
     pub contact_buckets: u32,
     pub contact_static: f32,
     pub contact_kinetic: f32,
-    pub pad: [u32; 2],
+    /// 1 while the fold progress is held: driven creases stiffen.
+    pub fold_held: u32,
+    pub pad: u32,
 }
 
 /// What [`Params::at`] needs besides the world and the settings.
@@ -62,7 +64,7 @@ impl Params {
         world: &World,
         settings: &SolverSettings,
         counts: &Counts,
-        progress: f32,
+        (progress, fold_held): (f32, bool),
         (substep, t, dt): (u32, f32, f32),
     ) -> Self {
         let wind = world.wind.unwrap_or_default();
@@ -96,7 +98,8 @@ impl Params {
             contact_buckets: counts.contact_buckets,
             contact_static: settings.self_collision.friction.static_coefficient,
             contact_kinetic: settings.self_collision.friction.kinetic_coefficient,
-            pad: [0; 2],
+            fold_held: fold_held as u32,
+            pad: 0,
         }
     }
 }

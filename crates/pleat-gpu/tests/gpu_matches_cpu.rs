@@ -83,8 +83,9 @@ fn strain_limit_kernels() {
 #[test]
 fn origami_hinge_kernels() {
     // Every crease of the waterbomb base driven to its full angle from the
-    // flat sheet at once: errors from 178 degrees down pass through both
-    // parts of the stiffening spring, the facet diagonals stay linear.
+    // flat sheet at once: linear creases in the first frame (the progress
+    // moved), then held, stiffening springs whose errors from 178 degrees
+    // down pass through every part of the law; facet diagonals stay linear.
     let text = r#"{ "name": "k", "frames": 1, "fps": 60, "gravity": [0, 0, 0],
         "solver": { "substeps": 4 },
         "cloths": [ { "mesh": { "pattern": { "builtin": "waterbomb-base", "size": 1.0 } },

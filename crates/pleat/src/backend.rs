@@ -61,6 +61,11 @@ pub trait Backend: MaybeSend {
     /// Drives every origami hinge to `c` times its full fold angle.
     fn set_fold_progress(&mut self, c: f32);
 
+    /// Whether the fold progress is held (unmoved since the last frame):
+    /// driven creases are stiffening springs while it is
+    /// ([`crate::constraint::hinge`]).
+    fn set_fold_held(&mut self, held: bool);
+
     /// Waits until every step handed to the device has run (for timing),
     /// adding the device's per-stage times to `stages` where it measures
     /// them; nothing to wait for on the CPU.
@@ -145,6 +150,10 @@ impl Backend for CpuBackend {
 
     fn set_fold_progress(&mut self, c: f32) {
         self.solver.set_fold_progress(c);
+    }
+
+    fn set_fold_held(&mut self, held: bool) {
+        self.solver.set_fold_held(held);
     }
 
     fn finish(&mut self, _stages: &mut StageTimes) {}

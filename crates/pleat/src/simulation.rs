@@ -29,6 +29,8 @@ pub struct Simulation {
     /// leaves it where [`Simulation::set_fold_progress`] put it.
     pub fold_ramp: Option<FoldRamp>,
     fold_progress: f32,
+    /// The fold progress of the last frame stepped (`None` before the first).
+    stepped_progress: Option<f32>,
     frames_stepped: u32,
     /// Set when the solver first produces NaN/inf or runaway stretch.
     pub stability: StabilityMonitor,
@@ -62,6 +64,7 @@ impl Simulation {
             stages: StageTimes::default(),
             fold_ramp: None,
             fold_progress: 0.0,
+            stepped_progress: None,
             frames_stepped: 0,
             stability: StabilityMonitor::default(),
             backend,
@@ -168,6 +171,9 @@ impl Simulation {
         if let Some(ramp) = self.fold_ramp {
             self.set_fold_progress(ramp.at(self.frames_stepped + 1));
         }
+        let held = self.stepped_progress == Some(self.fold_progress);
+        self.backend.set_fold_held(held);
+        self.stepped_progress = Some(self.fold_progress);
         self.backend.step(
             &mut self.particles,
             &mut self.world,

@@ -65,6 +65,7 @@ fn hinge_gradient_matches_finite_differences() {
     ];
     let mut hinge = OrigamiHinge::new([0, 1, 2, 3], -PI, 0.0, &p);
     hinge.set_progress(0.3);
+    hinge.stiffen = 1;
     let (c, grad) = hinge.evaluate(p.map(Vec3A::from)).unwrap();
     let phi = dihedral_angle(p).unwrap().0;
     assert!((c - stiffened_error(phi + 0.3 * PI).0).abs() < 1e-6);

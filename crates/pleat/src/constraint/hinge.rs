@@ -11,16 +11,22 @@
 //! 181, not -179, and flat folds can be approached from either side.
 //! The tracked angle saturates at 225 degrees either way.
 //!
-//! A driven crease is a stiffening spring ([`stiffened_error`]): its
-//! constraint grows as `e + e^3 / (3 theta_s^2)` in the error `e` up to
-//! [`STIFFENING_ANGLE`] and on linearly beyond, so its restoring moment
-//! `C dC/de` is 1.15 times the linear one 30 degrees from the target and
-//! 2.7 times at 90 degrees. Creases whose targets cannot all be met
-//! share the error instead of leaving a few far off (the compromise moves
-//! toward the smallest largest error), as MERLIN's enhanced rotational
-//! springs stiffen a crease far from its rest angle (Liu and Paulino 2017).
-//! Flat hinges (facet diagonals, target 0) stay linear: they are paper's
-//! bending, not creases.
+//! While the fold is held (the progress has not moved since the last
+//! frame, [`OrigamiHinge::stiffen`]), a driven crease is a stiffening
+//! spring ([`stiffened_error`]): its restoring moment `C dC/de` is 1.15
+//! times the linear one 30 degrees from the target and 2.7 times at 90
+//! degrees, easing back to 1.33 times at 180. Creases whose targets cannot
+//! all be met then share the error instead of leaving a few far off (the
+//! compromise moves toward the smallest largest error), as MERLIN's
+//! enhanced rotational springs stiffen a crease far from its rest angle
+//! (Liu and Paulino 2017). It is a continuation: while the fold moves, the
+//! linear creases choose how the flaps go (stiffened then, creases that
+//! must wait for others fold first and jam the flapping bird and the map
+//! fold); once held, the stiffening moves the compromise along that branch.
+//! A crease more than 90 degrees off is on another branch (folded the
+//! other way, jammed): its stiffening eases off so that it does not push
+//! its neighbours away from their targets. Flat hinges (facet diagonals,
+//! target 0) stay linear: they are paper's bending, not creases.
 
 use super::bending::{dihedral_angle_simd, project_four};
 use crate::solver::parallel::{Constraint, SharedPositions};
@@ -32,9 +38,10 @@ use std::f32::consts::{PI, TAU};
 /// plane, where a thickness-free sheet cannot tell which layer is on top.
 pub const MAX_TARGET_ANGLE: f32 = 178.0 * PI / 180.0;
 
-/// Fold-angle error (radians) at which a driven crease's stiffening stops
-/// growing: from there on its constraint rises with twice the slope it has
-/// at its target ([`stiffened_error`]).
+/// Fold-angle error (radians) at which a driven crease's stiffening peaks:
+/// its constraint rises with twice the slope it has at its target there,
+/// and with the target's slope again from twice this angle on
+/// ([`stiffened_error`]).
 pub const STIFFENING_ANGLE: f32 = PI / 2.0;
 
 /// Largest tracked fold angle (225 degrees): wings that have passed
@@ -60,6 +67,9 @@ pub struct OrigamiHinge {
     /// Entry of the live compliance table this constraint's compliance is
     /// a factor of ([`super::compliances`]; slot 0: the compliance as built).
     pub slot: u32,
+    /// 1 while the fold is held: a driven crease is then a stiffening
+    /// spring (see the module documentation); 0 while it moves.
+    pub stiffen: u32,
 }
 
 impl OrigamiHinge {
@@ -72,6 +82,7 @@ impl OrigamiHinge {
             compliance,
             angle: 0.0,
             slot: 0,
+            stiffen: 0,
         };
         hinge.track(|i| positions[i as usize]);
         hinge
@@ -105,12 +116,13 @@ impl OrigamiHinge {
     }
 
     /// `C` and its gradient with respect to the four positions: the fold
-    /// angle's error, stiffened for a driven crease ([`stiffened_error`]).
+    /// angle's error, stiffened for a driven crease while the fold is held
+    /// ([`stiffened_error`]).
     #[inline]
     pub fn evaluate(&self, p: [Vec3A; 4]) -> Option<(f32, [Vec3A; 4])> {
         dihedral_angle_simd(p).map(|(phi, grad)| {
             let error = self.unwrap(phi) - self.target_angle;
-            if self.full_angle == 0.0 {
+            if self.full_angle == 0.0 || self.stiffen == 0 {
                 return (error, grad);
             }
             let (c, slope) = stiffened_error(error);
@@ -145,15 +157,27 @@ impl Constraint for OrigamiHinge {
 }
 
 /// The stiffening spring's constraint for a fold-angle error `e` and its
-/// slope `dC/de`: `e + e^3 / (3 theta_s^2)` with slope `1 + e^2 / theta_s^2`
-/// while `|e| <= theta_s` ([`STIFFENING_ANGLE`]), continued with slope 2.
+/// slope `dC/de`, odd in `e`: for `a = |e|` and `theta_s` =
+/// [`STIFFENING_ANGLE`], the slope is `1 + a^2 / theta_s^2` up to
+/// `theta_s`, `1 + (2 theta_s - a)^2 / theta_s^2` down from there to
+/// `2 theta_s`, and 1 beyond.
 #[inline]
 pub fn stiffened_error(e: f32) -> (f32, f32) {
     let s = STIFFENING_ANGLE;
-    let inner = e.clamp(-s, s);
     let k = 1.0 / (s * s);
-    let c = inner + inner * inner * inner * k / 3.0 + 2.0 * (e - inner);
-    (c, 1.0 + inner * inner * k)
+    let a = e.abs();
+    let (c, slope) = if a <= s {
+        (a + a * a * a * k / 3.0, 1.0 + a * a * k)
+    } else if a <= 2.0 * s {
+        let r = 2.0 * s - a;
+        (
+            a + s / 3.0 + (s * s * s - r * r * r) * k / 3.0,
+            1.0 + r * r * k,
+        )
+    } else {
+        (a + 2.0 * s / 3.0, 1.0)
+    };
+    (c.copysign(e), slope)
 }
 
 #[cfg(test)]
@@ -189,6 +213,7 @@ mod tests {
         for fold in [0.5, 2.0, 3.1, PI, 3.2, -3.13, -0.8] {
             let mut h = hinge_at(fold);
             h.set_progress(0.9);
+            h.stiffen = 1;
             let p = pair(fold);
             let (c, grad) = h.evaluate(p.map(Vec3A::from)).unwrap();
             assert!((c - stiffened_error(h.angle - 0.9 * PI).0).abs() < 1e-5);
@@ -293,11 +318,12 @@ mod tests {
         let driven = |full: f32, compliance: f32, x: &[Vec3]| {
             let mut h = OrigamiHinge::new([0, 1, 2, 3], full, compliance, x);
             h.set_progress(1.0);
+            h.stiffen = 1;
             h
         };
         let mut pair_of = [driven(0.2, 1.0, &x), driven(2.6, 4.0, &x)];
-        let w = [1e-3; 4];
-        for _ in 0..20_000 {
+        let w = [2e-4; 4];
+        for _ in 0..100_000 {
             for h in &mut pair_of {
                 h.project(&mut 0.0, SharedPositions::new(&mut x), &w, 1.0);
                 h.track(|i| x[i as usize]);

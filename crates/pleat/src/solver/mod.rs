@@ -157,6 +157,10 @@ pub trait Solver: Send {
     /// Drives every origami hinge to `c` times its full fold angle; solvers
     /// without hinges ignore it.
     fn set_fold_progress(&mut self, _c: f32) {}
+
+    /// Whether the fold progress is held (unmoved since the last frame):
+    /// driven creases stiffen while it is; solvers without hinges ignore it.
+    fn set_fold_held(&mut self, _held: bool) {}
 }
 
 /// Builds the solver that `settings` name for `model`.

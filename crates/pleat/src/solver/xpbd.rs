@@ -156,6 +156,14 @@ impl XpbdConstraints {
         }
     }
 
+    /// Whether the fold is held: driven creases stiffen while it is
+    /// ([`crate::constraint::hinge`]).
+    pub fn set_fold_held(&mut self, held: bool) {
+        for h in &mut self.hinges.items {
+            h.stiffen = held as u32;
+        }
+    }
+
     /// One substep's projection: `iterations` Gauss-Seidel sweeps from zero
     /// multipliers with the soft attachments' targets at `t_end` and the
     /// live `compliances`, the strain limits' own sweeps, then the hinges'
@@ -282,6 +290,10 @@ impl super::Solver for Xpbd {
 
     fn set_fold_progress(&mut self, c: f32) {
         self.constraints.set_fold_progress(c);
+    }
+
+    fn set_fold_held(&mut self, held: bool) {
+        self.constraints.set_fold_held(held);
     }
 
     fn step(
