@@ -275,15 +275,19 @@ mod tests {
     #[test]
     fn the_stiffening_slope_is_the_derivative_and_continuous() {
         let h = 1e-3;
-        for e in [-3.5, -2.0, -1.2, -0.3, 0.0, 0.4, 1.5, 1.57, 1.58, 2.5] {
+        for e in [
+            -3.5, -2.0, -1.2, -0.3, 0.0, 0.4, 1.5, 1.57, 1.58, 2.5, 3.1, 3.15, 3.5,
+        ] {
             let (c, slope) = stiffened_error(e);
             let fd = (stiffened_error(e + h).0 - stiffened_error(e - h).0) / (2.0 * h);
             assert!((fd - slope).abs() < 1e-2, "e {e}: fd {fd} vs slope {slope}");
             assert!(c * e >= 0.0 && c.abs() >= e.abs(), "e {e}: c {c}");
         }
         assert_eq!(stiffened_error(0.0), (0.0, 1.0));
-        // Twice the slope at and beyond the stiffening angle, odd in e.
+        // Twice the slope at the stiffening angle, the target's again from
+        // twice it on; odd in e.
         assert!((stiffened_error(STIFFENING_ANGLE).1 - 2.0).abs() < 1e-6);
+        assert_eq!(stiffened_error(3.5).1, 1.0);
         assert_eq!(stiffened_error(-2.5).0, -stiffened_error(2.5).0);
     }
 
