@@ -90,6 +90,10 @@ struct PerSubstep {
     poses: wgpu::Buffer,
 }
 
+/// Polls a blocking read of the state makes before it reports the state
+/// lost ([`GpuBackend::read_state`]).
+const READBACK_POLLS: u32 = 8;
+
 /// The XPBD solver on a GPU.
 pub struct GpuBackend {
     context: GpuContext,
@@ -1059,10 +1063,17 @@ impl GpuBackend {
             let _ = older.try_take();
         }
         let readback = self.start_readback();
-        self.wait()?;
-        readback
-            .try_take()
-            .unwrap_or_else(|| Err(GpuError::Readback("the state did not arrive".into())))
+        // The map callback may only run on a later poll than the one that
+        // saw the copy finish (seen once, in a CI check on lavapipe, with
+        // several devices polled from parallel tests): poll again a few
+        // times before giving up.
+        for _ in 0..READBACK_POLLS {
+            self.wait()?;
+            if let Some(state) = readback.try_take() {
+                return state;
+            }
+        }
+        Err(GpuError::Readback("the state did not arrive".into()))
     }
 
     /// Waits until the device has run everything handed to it.
