@@ -344,6 +344,7 @@ mod tests {
     fn flat_hinges_stay_linear() {
         let mut h = hinge_at(1.2);
         h.full_angle = 0.0;
+        h.stiffen = 1;
         let (c, grad) = h.evaluate(pair(1.2).map(Vec3A::from)).unwrap();
         let (_, raw) = dihedral_angle_simd(pair(1.2).map(Vec3A::from)).unwrap();
         assert!((c - 1.2).abs() < 1e-5);

@@ -35,8 +35,8 @@ pub const STRAIN_LIMIT_SWEEPS: u32 = 2;
 /// [`STRAIN_LIMIT_SLACK`] times its limit (a sheet jammed by creases that
 /// fight, where each edge's correction stretches its neighbours and two
 /// sweeps leave the densest patterns at four to nine times the limit;
-/// 24 left Sweet_Dreams_Opus_T-41 at 2.4 % once its jammed creases
-/// stiffened, `crate::constraint::hinge::stiffened_error`).
+/// 24 left Sweet_Dreams_Opus_T-41 at 2.4 % under a first, always-on form
+/// of the creases' stiffening, `crate::constraint::hinge::stiffened_error`).
 pub const MAX_STRAIN_LIMIT_SWEEPS: u32 = 48;
 
 /// How far past its limit an edge may be left at the end of a substep, as
