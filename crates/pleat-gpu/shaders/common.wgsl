@@ -36,7 +36,8 @@ struct Params {
     contact_kinetic: f32,
     // 1 while the fold progress is held: driven creases stiffen.
     fold_held: u32,
-    pad: u32,
+    // Always 0, unknown to the compiler (momentum.wgsl).
+    opaque_zero: u32,
 }
 
 // The slice of a constraint array one dispatch works on (one colour).

@@ -11,6 +11,7 @@ use crate::context::{GpuContext, GpuError};
 use crate::data::{self, Attachment, Counts, GpuCollider, GpuPose, Params, Range};
 use crate::health::{HealthInputs, HealthWatch, PaperEdges};
 use crate::kernels::{workgroups, Kernels, COMPLIANCE_SLOTS, UNIFORM_STRIDE};
+use crate::momentum::Momentum;
 use crate::readback::Readback;
 use crate::timing::{TimedStage, Timestamps};
 use bytemuck::Pod;
@@ -116,6 +117,8 @@ pub struct GpuBackend {
     timestamps: Option<Timestamps>,
     /// Non-finite values, energy and paper strain after each frame.
     health: HealthWatch,
+    /// The free cloths turned back by the angle their projection turned them.
+    momentum: Option<Momentum>,
     /// A read of the state asked for and not yet taken.
     pending: Option<Readback>,
     /// The mappable buffer every read of the state goes through.
@@ -274,7 +277,12 @@ impl GpuBackend {
             hinge_count,
             strain_limit_sweeps,
             constraint_count,
+            free_parts,
         } = projection;
+        let free_parts: Vec<(u32, u32)> = free_parts
+            .iter()
+            .map(|r| table.push(r.start as u32, r.len() as u32))
+            .collect();
         let hard_indices: Vec<u32> = hard_pins.iter().map(|a| a.particle[0]).collect();
         let incidence = Incidence::new(&model.triangles, n, |t| t.as_slice());
         let (start, slots) = incidence.rows();
@@ -365,9 +373,11 @@ impl GpuBackend {
                 ranges: (&ranges, paper_range.0),
             },
         );
+        let momentum = Momentum::new(device, &kernels, (&ranges, free_parts), n as u32);
         let backend = GpuBackend {
             context: context.clone(),
             health,
+            momentum,
             timestamps: Timestamps::new(device, &context.queue, settings.substeps.max(1)),
             pending: None,
             staging: crate::readback::staging(device, 3 * n as u64 * PARTICLE_BYTES),
@@ -668,6 +678,9 @@ struct Projection {
     strain_limit_sweeps: u32,
     /// Constraints projected per iteration, pins included.
     constraint_count: usize,
+    /// The particles of each cloth nothing outside holds, whose projection
+    /// must not turn them ([`pleat::solver::momentum`]); none for Jacobi.
+    free_parts: Vec<std::ops::Range<usize>>,
 }
 
 /// XPBD: hinges, distances, bending, isometric bending, soft attachments
@@ -724,6 +737,7 @@ fn xpbd_projection(
         hinge_count: c.hinges.len() as u32,
         strain_limit_sweeps: c.strain_limit_sweeps,
         constraint_count: c.len() + hard_pins,
+        free_parts: c.free_parts.ranges().to_vec(),
     })
 }
 
@@ -756,6 +770,7 @@ fn jacobi_projection(
         soft_pins,
         hinge_count: 0,
         strain_limit_sweeps: 0,
+        free_parts: Vec::new(),
     })
 }
 
@@ -1021,6 +1036,9 @@ impl GpuBackend {
                 for _ in 0..*sweeps {
                     dispatch(pass, limit, None);
                 }
+            }
+            if let Some(momentum) = &self.momentum {
+                momentum.record(pass);
             }
             if let Some(track) = &st.track {
                 dispatch(pass, track, None);

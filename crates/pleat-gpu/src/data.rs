@@ -44,7 +44,9 @@ pub struct Params {
     pub contact_kinetic: f32,
     /// 1 while the fold progress is held: driven creases stiffen.
     pub fold_held: u32,
-    pub pad: u32,
+    /// Always 0, unknown to the shader compiler: an exact sum's round-off
+    /// masked with it is not simplified away (momentum.wgsl).
+    pub opaque_zero: u32,
 }
 
 /// What [`Params::at`] needs besides the world and the settings.
@@ -99,7 +101,7 @@ impl Params {
             contact_static: settings.self_collision.friction.static_coefficient,
             contact_kinetic: settings.self_collision.friction.kinetic_coefficient,
             fold_held: fold_held as u32,
-            pad: 0,
+            opaque_zero: 0,
         }
     }
 }

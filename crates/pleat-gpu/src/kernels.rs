@@ -50,6 +50,8 @@ pub struct Kernels {
     pub jacobi_gather: wgpu::ComputePipeline,
     /// The health reduction: per workgroup, then over the workgroups.
     pub health: [wgpu::ComputePipeline; 2],
+    /// The free cloths' turn: sums per workgroup, the turn, its application.
+    pub momentum: [wgpu::ComputePipeline; 3],
     /// Self-contact kernels in the order they run.
     pub self_contact: [wgpu::ComputePipeline; 8],
 }
@@ -167,6 +169,8 @@ impl Kernels {
                 pipeline(shaders::HEALTH, "reduce_blocks", &with_kernel),
                 pipeline(shaders::HEALTH, "reduce_sums", &with_kernel),
             ],
+            momentum: ["sum_blocks", "solve", "apply"]
+                .map(|e| pipeline(shaders::MOMENTUM, e, &with_kernel)),
             self_contact: shaders::SELF_CONTACT
                 .entry_points
                 .iter()

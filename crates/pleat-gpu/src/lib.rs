@@ -25,6 +25,7 @@ mod context;
 mod data;
 mod health;
 mod kernels;
+mod momentum;
 mod readback;
 pub mod shaders;
 mod timing;

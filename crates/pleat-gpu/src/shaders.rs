@@ -67,8 +67,11 @@ pub const SELF_CONTACT: Module = module!(
 /// The health reduction: non-finite values, energy, paper strain.
 pub const HEALTH: Module = module!("health", ["reduce_blocks", "reduce_sums"]);
 
+/// The free cloths' angular momentum kept through the projection.
+pub const MOMENTUM: Module = module!("momentum", ["sum_blocks", "solve", "apply"]);
+
 /// Every module of the backend.
-pub const ALL: [Module; 13] = [
+pub const ALL: [Module; 14] = [
     PREDICT,
     PINS,
     WIND,
@@ -82,6 +85,7 @@ pub const ALL: [Module; 13] = [
     JACOBI,
     SELF_CONTACT,
     HEALTH,
+    MOMENTUM,
 ];
 
 impl Module {

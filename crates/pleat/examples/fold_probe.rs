@@ -47,24 +47,6 @@ fn wrong_side(s: &HingeState, threshold: f32) -> bool {
     }
 }
 
-/// Magnitude of the sheet's angular momentum about its centre of mass.
-fn angular_momentum(sim: &Simulation) -> f32 {
-    let p = &sim.particles;
-    let mass = |i: usize| {
-        if p.inv_mass[i] > 0.0 {
-            1.0 / p.inv_mass[i]
-        } else {
-            0.0
-        }
-    };
-    let total: f32 = (0..p.len()).map(mass).sum();
-    let centre = (0..p.len()).map(|i| p.x[i] * mass(i)).sum::<Vec3>() / total;
-    (0..p.len())
-        .map(|i| (p.x[i] - centre).cross(p.v[i]) * mass(i))
-        .sum::<Vec3>()
-        .length()
-}
-
 fn main() {
     let args: Vec<String> = env::args().collect();
     let Some(path) = args.get(1) else {
@@ -149,7 +131,7 @@ fn main() {
             m.max_strain,
             sim.stability.verdict().is_some(),
             sim.metrics().kinetic_energy,
-            angular_momentum(&sim)
+            sim.particles.angular_momentum().length()
         );
     }
     println!(

@@ -48,6 +48,24 @@ impl Particles {
             .sum()
     }
 
+    /// Total angular momentum of the dynamic particles about their centre
+    /// of mass.
+    pub fn angular_momentum(&self) -> Vec3 {
+        let dynamic = || {
+            (0..self.len())
+                .filter(|&i| self.inv_mass[i] > 0.0)
+                .map(|i| (i, 1.0 / self.inv_mass[i]))
+        };
+        let mass: f32 = dynamic().map(|(_, m)| m).sum();
+        if mass <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let centre = dynamic().map(|(i, m)| self.x[i] * m).sum::<Vec3>() / mass;
+        dynamic()
+            .map(|(i, m)| (self.x[i] - centre).cross(self.v[i]) * m)
+            .sum()
+    }
+
     /// Kinetic energy of the dynamic particles.
     pub fn kinetic_energy(&self) -> f32 {
         self.v

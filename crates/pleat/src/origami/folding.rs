@@ -35,9 +35,10 @@
 //! their length and inextensible beyond it, so the compromise is taken by
 //! the creases and by facets bending (as soft as the creases: the crane
 //! ends 87 degrees from its worst target, against 127 with facets ten times
-//! stiffer and no limit). Without the limit, stiff creases strain the paper
-//! and set it spinning, since Gauss-Seidel projections of fighting
-//! constraints keep angular momentum only to first order. Fewer substeps
+//! stiffer and no limit). Without the limit, stiff creases strain the
+//! paper. Gauss-Seidel sweeps of fighting constraints turn the sheet a
+//! little every substep; the solver takes that turn back
+//! ([`crate::solver::momentum`]), so a held fold does not spin. Fewer substeps
 //! make the hinges stiffer relative to the edges, since one Gauss-Seidel
 //! iteration a substep adds about `dt^2 sum w |grad C|^2` to every
 //! compliance. Damping of 10 /s lets a single crease settle within a

@@ -4,6 +4,7 @@
 pub mod coloring;
 pub mod jacobi;
 pub mod mass_spring;
+pub mod momentum;
 pub mod parallel;
 pub mod position_based;
 pub mod shape_matching;

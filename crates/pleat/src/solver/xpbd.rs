@@ -5,6 +5,7 @@
 //! (when enabled) and collider contacts and derives velocities from the
 //! change of position.
 
+use super::momentum::FreeParts;
 use super::parallel::ColoredConstraints;
 use super::position_based::{attachments, inverse_masses, Contacts, Prediction};
 use super::springs::skip_one_pairs;
@@ -72,6 +73,8 @@ pub struct XpbdConstraints {
     /// Sweeps of the distances' strain limits after the iterations, at the
     /// least: [`STRAIN_LIMIT_SWEEPS`] where an edge has a limit, else none.
     pub strain_limit_sweeps: u32,
+    /// The cloths nothing outside holds, whose projection must not turn them.
+    pub free_parts: FreeParts,
 }
 
 impl XpbdConstraints {
@@ -125,6 +128,7 @@ impl XpbdConstraints {
         };
         XpbdConstraints {
             strain_limit_sweeps,
+            free_parts: FreeParts::new(model, &inv_mass),
             distance: ColoredConstraints::new(distance, n),
             bending: ColoredConstraints::new(bending, n),
             isometric: ColoredConstraints::new(isometric, n),
@@ -166,8 +170,9 @@ impl XpbdConstraints {
 
     /// One substep's projection: `iterations` Gauss-Seidel sweeps from zero
     /// multipliers with the soft attachments' targets at `t_end` and the
-    /// live `compliances`, the strain limits' own sweeps, then the hinges'
-    /// tracked angles.
+    /// live `compliances`, the strain limits' own sweeps, the free cloths
+    /// turned back by the angle the sweeps turned them
+    /// ([`super::momentum`]), then the hinges' tracked angles.
     fn project(
         &mut self,
         p: &mut Particles,
@@ -194,6 +199,7 @@ impl XpbdConstraints {
             self.tethers.solve(x, w, inv_dt2, compliances);
         }
         self.sweep_strain_limits(p);
+        self.free_parts.restore(p, dt);
         let x = &p.x;
         self.hinges
             .items
