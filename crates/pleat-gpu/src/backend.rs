@@ -7,6 +7,7 @@
 //! per frame (a few bytes per pin and collider), with the colliders'
 //! friction when the world's has changed.
 
+use crate::buffers::{entry, sized_entry, storage, zeroed};
 use crate::context::{GpuContext, GpuError};
 use crate::data::{self, Attachment, Counts, GpuCollider, GpuPose, Params, Range};
 use crate::health::{HealthInputs, HealthWatch, PaperEdges};
@@ -621,49 +622,6 @@ impl PerSubstep {
             ),
         }
     }
-}
-
-pub(crate) fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
-    wgpu::BindGroupEntry {
-        binding,
-        resource: buffer.as_entire_binding(),
-    }
-}
-
-pub(crate) fn sized_entry(
-    binding: u32,
-    buffer: &wgpu::Buffer,
-    size: usize,
-) -> wgpu::BindGroupEntry<'_> {
-    wgpu::BindGroupEntry {
-        binding,
-        resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-            buffer,
-            offset: 0,
-            size: wgpu::BufferSize::new(size as u64),
-        }),
-    }
-}
-
-/// A storage buffer holding `items` (16 bytes at least: empty bindings are invalid).
-pub(crate) fn storage<T: Pod>(device: &wgpu::Device, label: &str, items: &[T]) -> wgpu::Buffer {
-    let mut bytes = bytemuck::cast_slice::<T, u8>(items).to_vec();
-    bytes.resize(bytes.len().max(16).next_multiple_of(4), 0);
-    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some(label),
-        contents: &bytes,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-    })
-}
-
-/// A zeroed storage buffer of `size` bytes (16 at least).
-pub(crate) fn zeroed(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
-    device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some(label),
-        size: size.max(16).next_multiple_of(4),
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    })
 }
 
 /// How a backend projects the cloth's constraints: the kinds it

@@ -4,6 +4,7 @@
 //! bytes come back without blocking. A frame that ends while the last
 //! result is still on its way is not measured.
 
+use crate::buffers::{entry, sized_entry, storage, zeroed};
 use crate::kernels::{workgroups, Kernels};
 use bytemuck::{Pod, Zeroable};
 use pleat::stability::{paper_edges, Health};
@@ -105,7 +106,6 @@ pub struct HealthInputs<'a> {
 
 impl HealthWatch {
     pub fn new(device: &wgpu::Device, kernels: &Kernels, inputs: HealthInputs<'_>) -> Self {
-        use crate::backend::{entry, sized_entry, storage, zeroed};
         let HealthInputs {
             model,
             paper,

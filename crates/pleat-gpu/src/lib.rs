@@ -21,6 +21,7 @@
 #![warn(missing_docs)]
 
 mod backend;
+mod buffers;
 mod context;
 mod data;
 mod health;

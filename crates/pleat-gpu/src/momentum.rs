@@ -5,7 +5,7 @@
 //! dispatches a free cloth and substep: the sums per workgroup, their sum
 //! and the turn, the turn applied.
 
-use crate::backend::{entry, sized_entry, zeroed};
+use crate::buffers::{entry, sized_entry, zeroed};
 use crate::kernels::{workgroups, Kernels, WORKGROUP};
 
 /// Bytes of one workgroup's sums (`Sums` in momentum.wgsl: seven vec4).
