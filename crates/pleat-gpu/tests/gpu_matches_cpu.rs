@@ -95,6 +95,21 @@ fn origami_hinge_kernels() {
 }
 
 #[test]
+fn strain_limit_kernel_while_the_fold_moves() {
+    // Soft paper driven hard: its edges stretch past their 1 % limit, which
+    // gives twice as much while the progress moves (the first ten frames).
+    // One frame: later the CPU's further sweeps, which the GPU has not,
+    // pull edges left beyond 1.8 times the limit (1.3e-4 m apart at ten).
+    let text = r#"{ "name": "k", "frames": 1, "fps": 60, "gravity": [0, 0, 0],
+        "solver": { "substeps": 4 },
+        "cloths": [ { "mesh": { "pattern": { "builtin": "miura-ori", "size": 1.0 } },
+                      "material": { "density": 0.08, "thickness": 0.0, "stretch_compliance": 1e-3,
+                                    "max_strain": 0.01 } } ],
+        "fold": { "progress": 1.0, "frames_to_fold": 10 } }"#;
+    frames_match(text, "strain limit while the fold moves", 1);
+}
+
+#[test]
 fn isometric_bending_tether_and_soft_pin_kernels() {
     let text = cloth(
         r#""bending": "isometric""#,

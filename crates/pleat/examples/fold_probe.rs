@@ -15,7 +15,8 @@
 //! compliance per unit length), `SUB` (substeps), `ITER` (iterations a
 //! substep), `DAMP` (1/s), `STRETCH` (edge compliance per unit length), `MAX_STRAIN` (the edges'
 //! strain limit, 0 for none), `NOISE` (metres of
-//! random initial height). Output: `EVERY` (frames between lines, 20),
+//! random initial height), `MAX_EDGE` (metres: the sheet refined to
+//! triangles no larger). Output: `EVERY` (frames between lines, 20),
 //! `WRONG=1` (each crease on the wrong side at each line), `LIST=1` (each
 //! hinge more than 10 degrees from its target at the end).
 
@@ -55,8 +56,12 @@ fn main() {
     };
     let progress: f32 = args.get(2).map_or(1.0, |s| s.parse().expect("progress"));
     let pattern = load_pattern(Path::new(path)).unwrap_or_else(|e| panic!("{e}"));
-    let sheet =
-        Sheet::from_pattern(&pattern, &SheetOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    let max_edge = setting("MAX_EDGE", 0.0) as f64;
+    let options = SheetOptions {
+        max_edge: (max_edge > 0.0).then_some(max_edge),
+        ..SheetOptions::default()
+    };
+    let sheet = Sheet::from_pattern(&pattern, &options).unwrap_or_else(|e| panic!("{e}"));
     let ramp = setting("RAMP", 120.0) as u32;
     let total = ramp + setting("SETTLE", 60.0) as u32;
     let every = (setting("EVERY", 20.0) as u32).max(1);

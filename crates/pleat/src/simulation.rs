@@ -29,8 +29,9 @@ pub struct Simulation {
     /// leaves it where [`Simulation::set_fold_progress`] put it.
     pub fold_ramp: Option<FoldRamp>,
     fold_progress: f32,
-    /// The fold progress of the last frame stepped (`None` before the first).
-    stepped_progress: Option<f32>,
+    /// The fold progress of the last frame stepped (0, the flat sheet,
+    /// before the first).
+    stepped_progress: f32,
     frames_stepped: u32,
     /// Set when the solver first produces NaN/inf or runaway stretch.
     pub stability: StabilityMonitor,
@@ -64,7 +65,7 @@ impl Simulation {
             stages: StageTimes::default(),
             fold_ramp: None,
             fold_progress: 0.0,
-            stepped_progress: None,
+            stepped_progress: 0.0,
             frames_stepped: 0,
             stability: StabilityMonitor::default(),
             backend,
@@ -171,9 +172,9 @@ impl Simulation {
         if let Some(ramp) = self.fold_ramp {
             self.set_fold_progress(ramp.at(self.frames_stepped + 1));
         }
-        let held = self.stepped_progress == Some(self.fold_progress);
+        let held = self.stepped_progress == self.fold_progress;
         self.backend.set_fold_held(held);
-        self.stepped_progress = Some(self.fold_progress);
+        self.stepped_progress = self.fold_progress;
         self.backend.step(
             &mut self.particles,
             &mut self.world,
