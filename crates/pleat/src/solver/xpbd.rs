@@ -87,6 +87,9 @@ pub struct XpbdConstraints {
     /// Each distance constraint's strain limit while the fold is held
     /// (`max_stretch` as built), in the order of `distance`.
     held_max_stretch: Vec<f32>,
+    /// What [`XpbdConstraints::set_fold_held`] last set (`None` before the
+    /// first call), so that a frame like the last rewrites nothing.
+    fold_held: Option<bool>,
 }
 
 impl XpbdConstraints {
@@ -144,6 +147,7 @@ impl XpbdConstraints {
             strain_limit_sweeps,
             free_parts: FreeParts::new(model, &inv_mass),
             held_max_stretch,
+            fold_held: None,
             distance,
             bending: ColoredConstraints::new(bending, n),
             isometric: ColoredConstraints::new(isometric, n),
@@ -179,6 +183,10 @@ impl XpbdConstraints {
     /// ([`crate::constraint::hinge`]); while it moves, strain limits allow
     /// [`MOVING_FOLD_STRAIN_SCALE`] times their stretch.
     pub fn set_fold_held(&mut self, held: bool) {
+        if self.fold_held == Some(held) {
+            return;
+        }
+        self.fold_held = Some(held);
         for h in &mut self.hinges.items {
             h.stiffen = held as u32;
         }
