@@ -255,6 +255,32 @@ fn gif_has_the_requested_number_of_frames() {
 }
 
 #[test]
+fn layers_of_a_flat_fold_draw_one_colour_not_stripes() {
+    // The right half of the cloth folded exactly onto the left half (x to
+    // -x): the two layers lie in one plane, one turned toward the camera,
+    // the other away. Where front and back faces coincide the one turned
+    // toward the camera is drawn, so no pixel shows the back colour.
+    let mut sim = simulation(FLOATING_CLOTH);
+    for x in &mut sim.particles.x {
+        x.x = -x.x.abs();
+    }
+    let settings = RenderSettings {
+        front_color: Some(Vec3::new(0.0, 1.0, 0.0)),
+        back_color: Some(Vec3::new(1.0, 0.0, 0.0)),
+        ..green(small(View::Shaded))
+    };
+    let picture = draw(&mut renderer(&sim, settings), &sim);
+    let is_red = |p: &Rgba<u8>| {
+        let [r, g, b, _] = p.0.map(i32::from);
+        r > g + 40 && r > b + 40
+    };
+    let greens = picture.pixels().filter(|p| is_green(p)).count();
+    let reds = picture.pixels().filter(|p| is_red(p)).count();
+    assert!(greens > 1000, "{greens} front pixels");
+    assert_eq!(reds, 0, "{reds} back pixels among {greens} front ones");
+}
+
+#[test]
 fn positions_from_a_gpu_buffer_draw_the_same_picture() {
     use wgpu::util::DeviceExt;
     let mut sim = simulation(FLOATING_CLOTH);

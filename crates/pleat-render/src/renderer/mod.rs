@@ -823,10 +823,12 @@ impl Renderer {
         pass.set_pipeline(&self.pipelines.meshes);
         pass.set_vertex_buffer(0, self.mesh_vertices.slice(..));
         pass.draw(0..self.mesh_vertex_count, 0..1);
-        pass.set_pipeline(&self.pipelines.cloth);
         pass.set_bind_group(1, &cloth_group, &[]);
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
-        pass.draw_indexed(0..self.index_count, 0, 0..1);
+        for pipeline in [&self.pipelines.cloth_back, &self.pipelines.cloth_front] {
+            pass.set_pipeline(pipeline);
+            pass.draw_indexed(0..self.index_count, 0, 0..1);
+        }
         if let Some((lines, count)) = &self.lines {
             let lines_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("lines"),

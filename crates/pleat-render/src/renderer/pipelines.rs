@@ -72,10 +72,26 @@ impl Layouts {
     }
 }
 
+/// Depth bias of the cloth's front faces: a flat fold lays layers of paper
+/// in one plane, and a sheet without thickness has no order for them, so
+/// coplanar front and back faces would fight pixel by pixel (stripes of
+/// the two paper colours). Where they coincide, the face turned toward the
+/// camera is drawn. Slope-scaled, so a layer seen at a grazing angle
+/// still wins; a few depth units otherwise, far below the gap between
+/// layers that are apart.
+const FRONT_FACES_FIRST: wgpu::DepthBiasState = wgpu::DepthBiasState {
+    constant: -4,
+    slope_scale: -1.0,
+    clamp: 0.0,
+};
+
 /// Every pipeline a frame uses.
 pub(super) struct Pipelines {
     pub(super) normals: wgpu::ComputePipeline,
-    pub(super) cloth: wgpu::RenderPipeline,
+    /// The cloth's faces turned toward the camera, drawn a little nearer
+    /// than they are ([`FRONT_FACES_FIRST`]), and those turned away.
+    pub(super) cloth_front: wgpu::RenderPipeline,
+    pub(super) cloth_back: wgpu::RenderPipeline,
     pub(super) cloth_shadow: wgpu::RenderPipeline,
     pub(super) meshes: wgpu::RenderPipeline,
     pub(super) meshes_shadow: wgpu::RenderPipeline,
@@ -130,6 +146,8 @@ impl Pipelines {
             depth_write: bool,
             depth_compare: wgpu::CompareFunction,
             samples: u32,
+            cull_mode: Option<wgpu::Face>,
+            bias: wgpu::DepthBiasState,
         }
         let pipeline = |d: Draw<'_>| {
             let targets = [Some(wgpu::ColorTargetState {
@@ -148,7 +166,7 @@ impl Pipelines {
                 },
                 primitive: wgpu::PrimitiveState {
                     topology: d.topology,
-                    cull_mode: None,
+                    cull_mode: d.cull_mode,
                     ..Default::default()
                 },
                 depth_stencil: Some(wgpu::DepthStencilState {
@@ -156,7 +174,7 @@ impl Pipelines {
                     depth_write_enabled: Some(d.depth_write),
                     depth_compare: Some(d.depth_compare),
                     stencil: Default::default(),
-                    bias: Default::default(),
+                    bias: d.bias,
                 }),
                 multisample: wgpu::MultisampleState {
                     count: d.samples,
@@ -174,6 +192,20 @@ impl Pipelines {
         };
         let triangles = wgpu::PrimitiveTopology::TriangleList;
         let less = wgpu::CompareFunction::LessEqual;
+        let cloth_draw = || Draw {
+            label: "cloth",
+            layout: layout(&[global, &layouts.cloth]),
+            module: &cloth,
+            vertex: "vs_main",
+            fragment: Some("fs_main"),
+            buffers: &[],
+            topology: triangles,
+            depth_write: true,
+            depth_compare: less,
+            samples: msaa,
+            cull_mode: None,
+            bias: Default::default(),
+        };
         Pipelines {
             normals: device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some("normals"),
@@ -183,17 +215,16 @@ impl Pipelines {
                 compilation_options: Default::default(),
                 cache: None,
             }),
-            cloth: pipeline(Draw {
-                label: "cloth",
-                layout: layout(&[global, &layouts.cloth]),
-                module: &cloth,
-                vertex: "vs_main",
-                fragment: Some("fs_main"),
-                buffers: &[],
-                topology: triangles,
-                depth_write: true,
-                depth_compare: less,
-                samples: msaa,
+            cloth_front: pipeline(Draw {
+                label: "cloth front faces",
+                cull_mode: Some(wgpu::Face::Back),
+                bias: FRONT_FACES_FIRST,
+                ..cloth_draw()
+            }),
+            cloth_back: pipeline(Draw {
+                label: "cloth back faces",
+                cull_mode: Some(wgpu::Face::Front),
+                ..cloth_draw()
             }),
             cloth_shadow: pipeline(Draw {
                 label: "cloth shadow",
@@ -206,6 +237,8 @@ impl Pipelines {
                 depth_write: true,
                 depth_compare: less,
                 samples: 1,
+                cull_mode: None,
+                bias: Default::default(),
             }),
             meshes: pipeline(Draw {
                 label: "meshes",
@@ -218,6 +251,8 @@ impl Pipelines {
                 depth_write: true,
                 depth_compare: less,
                 samples: msaa,
+                cull_mode: None,
+                bias: Default::default(),
             }),
             meshes_shadow: pipeline(Draw {
                 label: "meshes shadow",
@@ -230,6 +265,8 @@ impl Pipelines {
                 depth_write: true,
                 depth_compare: less,
                 samples: 1,
+                cull_mode: None,
+                bias: Default::default(),
             }),
             sky: pipeline(Draw {
                 label: "sky",
@@ -242,6 +279,8 @@ impl Pipelines {
                 depth_write: false,
                 depth_compare: wgpu::CompareFunction::Always,
                 samples: msaa,
+                cull_mode: None,
+                bias: Default::default(),
             }),
             lines: pipeline(Draw {
                 label: "lines",
@@ -254,6 +293,8 @@ impl Pipelines {
                 depth_write: true,
                 depth_compare: less,
                 samples: msaa,
+                cull_mode: None,
+                bias: Default::default(),
             }),
         }
     }

@@ -7,7 +7,8 @@
 //! their full angle (the pattern's own fold angle, else 180 degrees;
 //! targets are capped at
 //! [`MAX_TARGET_ANGLE`](crate::constraint::hinge::MAX_TARGET_ANGLE) so that
-//! flat-folded layers stay apart), facet hinges (flat, auxiliary and
+//! flat-folded layers stay apart, and the fold-angle errors are measured
+//! against the uncapped `c` times the full angle), facet hinges (flat, auxiliary and
 //! triangulation edges) are held flat by a stiffer hinge, and unassigned
 //! (undriven) hinges swing freely. Compliances are per unit of hinge or
 //! edge length, so a crease split by refinement is as stiff as the whole
@@ -299,7 +300,10 @@ pub struct HingeState {
     /// Fold angle now (radians in `(-pi, pi]`, valley positive); `None` for
     /// a degenerate pair.
     pub angle: Option<f32>,
-    /// Fold angle the hinge is driven to; `None` when undriven.
+    /// Fold angle the pattern asks of the hinge: the progress times its
+    /// full angle (the hinge itself is driven to that capped at
+    /// [`MAX_TARGET_ANGLE`](crate::constraint::hinge::MAX_TARGET_ANGLE));
+    /// `None` when undriven.
     pub target: Option<f32>,
 }
 
@@ -308,6 +312,14 @@ impl HingeState {
     /// round); `None` when either is missing.
     pub fn error(&self) -> Option<f32> {
         Some(wrap_angle(self.angle? - self.target?).abs())
+    }
+
+    /// The fold angle read on its target's side of +-180 degrees (a flat
+    /// fold just past 180 reads 180.4, not -179.6); `None` when either is
+    /// missing.
+    pub fn angle_near_target(&self) -> Option<f32> {
+        let target = self.target?;
+        Some(target + wrap_angle(self.angle? - target))
     }
 }
 
@@ -325,7 +337,7 @@ pub fn hinge_states(model: &Model, x: &[Vec3], progress: f32) -> Vec<HingeState>
                     v,
                     assignment: h.assignment,
                     angle: dihedral_angle(v.map(|i| x[i as usize])).map(|(a, _)| a),
-                    target: full_angle(h).map(|a| OrigamiHinge::target(a, progress)),
+                    target: full_angle(h).map(|a| a * progress),
                 }
             })
         })
@@ -367,7 +379,8 @@ pub struct WorstHinge {
     pub edge: [u32; 2],
     /// `mountain`, `valley`, `flat` (a facet hinge) or `unassigned`.
     pub kind: &'static str,
-    /// Fold angle now and its target (degrees, valley positive).
+    /// Fold angle now, read on its target's side of +-180 degrees, and its
+    /// target (degrees, valley positive).
     pub angle_deg: f32,
     pub target_deg: f32,
     pub error_deg: f32,
@@ -384,7 +397,7 @@ impl WorstHinge {
         Some(WorstHinge {
             edge: [state.v[0], state.v[1]],
             kind: kind_name(state.assignment),
-            angle_deg: state.angle?.to_degrees(),
+            angle_deg: state.angle_near_target()?.to_degrees(),
             target_deg: state.target?.to_degrees(),
             error_deg: error.to_degrees(),
         })
@@ -514,6 +527,45 @@ mod tests {
             assignment,
             fold_angle,
         }
+    }
+
+    #[test]
+    fn a_flat_fold_just_past_180_degrees_is_measured_against_the_full_target() {
+        let state = |angle: f32, progress: f32| HingeState {
+            v: [0, 1, 2, 3],
+            assignment: Assignment::Valley,
+            angle: Some(angle.to_radians()),
+            target: Some(PI * progress),
+        };
+        // Past flat: atan2 reads -179.6 degrees, 0.4 from the 180 asked.
+        let past = state(-179.6, 1.0);
+        assert!((past.error().unwrap().to_degrees() - 0.4).abs() < 1e-3);
+        assert!((past.angle_near_target().unwrap().to_degrees() - 180.4).abs() < 1e-3);
+        assert!((state(45.0, 0.25).error().unwrap().to_degrees()).abs() < 1e-3);
+    }
+
+    #[test]
+    fn errors_are_measured_against_the_uncapped_target() {
+        // The valley is driven to 178 degrees (MAX_TARGET_ANGLE), but the
+        // pattern asks 180: a crease at its capped target is 2 degrees off.
+        let sheet = Sheet::from_pattern(
+            &builtin("single-line").unwrap(),
+            &crate::origami::SheetOptions::default(),
+        )
+        .unwrap();
+        let mut model = Model::default();
+        model.add_paper("p", &sheet, paper_material(), PaperStiffness::default());
+        let states = hinge_states(&model, &model.rest, 1.0);
+        let valley = states
+            .iter()
+            .find(|s| s.assignment == Assignment::Valley)
+            .unwrap();
+        assert_eq!(valley.target, Some(PI));
+        let at_cap = HingeState {
+            angle: Some(crate::constraint::hinge::MAX_TARGET_ANGLE),
+            ..*valley
+        };
+        assert!((at_cap.error().unwrap().to_degrees() - 2.0).abs() < 1e-3);
     }
 
     #[test]
