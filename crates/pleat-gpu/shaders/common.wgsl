@@ -38,8 +38,7 @@ struct Params {
     fold_held: u32,
     // Always 0, unknown to the compiler (momentum.wgsl).
     opaque_zero: u32,
-    // What strain limits are multiplied by (2 while the fold progress moves).
-    strain_limit_scale: f32,
+    pad3: u32,
     pad0: u32,
     pad1: u32,
     pad2: u32,

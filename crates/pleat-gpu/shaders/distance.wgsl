@@ -51,13 +51,10 @@ fn edge(gid: vec3<u32>, groups: vec3<u32>) -> Edge {
     return e;
 }
 
-// Moves the ends along n so that C = `c` comes back within the limit, as
-// many times the edge's own as params.strain_limit_scale says.
+// Moves the ends along n so that C = `c` comes back within the limit.
 fn clamp_stretch(e: Edge, c: f32) {
     let item = items[e.j];
-    let limited = item.max_stretch < MAX_FINITE;
-    let limit = select(item.max_stretch, item.max_stretch * params.strain_limit_scale, limited);
-    let excess = c - clamp(c, -limit, limit);
+    let excess = c - clamp(c, -item.max_stretch, item.max_stretch);
     if excess != 0.0 {
         let s = excess / (e.wa + e.wb);
         move_by(item.a, e.n * (-e.wa * s));

@@ -47,10 +47,7 @@ pub struct Params {
     /// Always 0, unknown to the shader compiler: an exact sum's round-off
     /// masked with it is not simplified away (momentum.wgsl).
     pub opaque_zero: u32,
-    /// What strain limits are multiplied by (more than 1 while the fold
-    /// progress moves: [`pleat::solver::xpbd::strain_limit_scale`]).
-    pub strain_limit_scale: f32,
-    pub pad: [u32; 3],
+    pub pad: [u32; 4],
 }
 
 /// What [`Params::at`] needs besides the world and the settings.
@@ -106,8 +103,7 @@ impl Params {
             contact_kinetic: settings.self_collision.friction.kinetic_coefficient,
             fold_held: fold_held as u32,
             opaque_zero: 0,
-            strain_limit_scale: pleat::solver::xpbd::strain_limit_scale(fold_held),
-            pad: [0; 3],
+            pad: [0; 4],
         }
     }
 }

@@ -97,7 +97,8 @@ fn origami_hinge_kernels() {
 #[test]
 fn strain_limit_kernel_while_the_fold_moves() {
     // Soft paper driven hard: its edges stretch past their 1 % limit, which
-    // gives twice as much while the progress moves (the first ten frames).
+    // gives twice as much while the progress moves (the first ten frames;
+    // the backend writes the moving limits into its items).
     // One frame: later the CPU's further sweeps, which the GPU has not,
     // pull edges left beyond 1.8 times the limit (1.3e-4 m apart at ten).
     let text = r#"{ "name": "k", "frames": 1, "fps": 60, "gravity": [0, 0, 0],

@@ -63,9 +63,9 @@ pub trait Backend: MaybeSend {
 
     /// Whether the fold progress is held (unmoved since the last frame):
     /// driven creases are stiffening springs while it is
-    /// ([`crate::constraint::hinge`]); while it moves, strain limits
-    /// allow [`crate::solver::xpbd::MOVING_FOLD_STRAIN_SCALE`] times
-    /// their stretch.
+    /// ([`crate::constraint::hinge`]); while it moves, paper's strain
+    /// limits allow [`crate::solver::xpbd::MOVING_FOLD_STRAIN_SCALE`]
+    /// times their stretch.
     fn set_fold_held(&mut self, held: bool);
 
     /// Waits until every step handed to the device has run (for timing),
