@@ -529,6 +529,18 @@ mod tests {
         }
     }
 
+    /// The built-in single crease as a paper part of a model of its own.
+    fn single_line_paper() -> (Sheet, Model) {
+        let sheet = Sheet::from_pattern(
+            &builtin("single-line").unwrap(),
+            &crate::origami::SheetOptions::default(),
+        )
+        .unwrap();
+        let mut model = Model::default();
+        model.add_paper("p", &sheet, paper_material(), PaperStiffness::default());
+        (sheet, model)
+    }
+
     #[test]
     fn a_flat_fold_just_past_180_degrees_is_measured_against_the_full_target() {
         let state = |angle: f32, progress: f32| HingeState {
@@ -548,13 +560,7 @@ mod tests {
     fn errors_are_measured_against_the_uncapped_target() {
         // The valley is driven to 178 degrees (MAX_TARGET_ANGLE), but the
         // pattern asks 180: a crease at its capped target is 2 degrees off.
-        let sheet = Sheet::from_pattern(
-            &builtin("single-line").unwrap(),
-            &crate::origami::SheetOptions::default(),
-        )
-        .unwrap();
-        let mut model = Model::default();
-        model.add_paper("p", &sheet, paper_material(), PaperStiffness::default());
+        let (_, model) = single_line_paper();
         let states = hinge_states(&model, &model.rest, 1.0);
         let valley = states
             .iter()
@@ -597,13 +603,7 @@ mod tests {
 
     #[test]
     fn folded_state_exports_as_fold_with_angles_in_degrees() {
-        let sheet = Sheet::from_pattern(
-            &builtin("single-line").unwrap(),
-            &crate::origami::SheetOptions::default(),
-        )
-        .unwrap();
-        let mut model = Model::default();
-        model.add_paper("p", &sheet, paper_material(), PaperStiffness::default());
+        let (_, model) = single_line_paper();
         let cloth = &model.cloths[0];
         let valley = cloth
             .paper
@@ -637,13 +637,7 @@ mod tests {
 
     #[test]
     fn paper_part_gets_hinges_instead_of_bending() {
-        let sheet = Sheet::from_pattern(
-            &builtin("single-line").unwrap(),
-            &crate::origami::SheetOptions::default(),
-        )
-        .unwrap();
-        let mut model = Model::default();
-        model.add_paper("p", &sheet, paper_material(), PaperStiffness::default());
+        let (sheet, model) = single_line_paper();
         let paper = model.cloths[0].paper.as_ref().unwrap();
         let hinges = paper.hinge_constraints(&model.cloths[0], 0, &model.rest);
         assert_eq!(hinges.len(), sheet.hinges.len());
