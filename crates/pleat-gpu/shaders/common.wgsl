@@ -38,10 +38,10 @@ struct Params {
     fold_held: u32,
     // Always 0, unknown to the compiler (momentum.wgsl).
     opaque_zero: u32,
-    pad3: u32,
     pad0: u32,
     pad1: u32,
     pad2: u32,
+    pad3: u32,
 }
 
 // The slice of a constraint array one dispatch works on (one colour).

@@ -24,7 +24,7 @@ use pleat::model::Model;
 use pleat::solver::jacobi::JacobiConstraints;
 use pleat::solver::parallel::ColoredConstraints;
 use pleat::solver::position_based::attachments;
-use pleat::solver::xpbd::{FoldDistances, XpbdConstraints};
+use pleat::solver::xpbd::{FoldLimits, XpbdConstraints};
 use pleat::solver::{substep_times, SolverKind, SolverSettings, StageTimes};
 use pleat::{Backend, Particles, World};
 use wgpu::util::DeviceExt;
@@ -131,10 +131,10 @@ pub struct GpuBackend {
     progress: f32,
     /// Whether the fold progress is held (driven creases stiffen).
     fold_held: bool,
-    /// The distance constraints for a held fold and a moving one (paper's
-    /// strain limits give while it moves), with which of them the items
-    /// buffer holds; `None` where they are the same.
-    fold_distances: Option<(FoldDistances, Option<bool>)>,
+    /// The distance constraints as the items buffer holds them, and their
+    /// strain limits for a held fold and a moving one (paper's give while
+    /// it moves); `None` where the two are the same.
+    fold_limits: Option<(FoldLimits, Vec<DistanceConstraint>)>,
 }
 
 /// Buffers of the kernels of group 1, by kernel.
@@ -283,7 +283,7 @@ impl GpuBackend {
             strain_limit_sweeps,
             constraint_count,
             free_parts,
-            fold_distances,
+            fold_limits,
         } = projection;
         let free_parts: Vec<(u32, u32)> = free_parts
             .iter()
@@ -404,7 +404,7 @@ impl GpuBackend {
             soft_pins,
             progress: 0.0,
             fold_held: false,
-            fold_distances: fold_distances.map(|d| (d, None)),
+            fold_limits,
         };
         Ok((backend, notes))
     }
@@ -645,8 +645,8 @@ struct Projection {
     /// The particles of each cloth nothing outside holds, whose projection
     /// must not turn them ([`pleat::solver::momentum`]); none for Jacobi.
     free_parts: Vec<std::ops::Range<usize>>,
-    /// See [`GpuBackend::fold_distances`]; none for Jacobi.
-    fold_distances: Option<FoldDistances>,
+    /// See [`GpuBackend::fold_limits`]; none for Jacobi.
+    fold_limits: Option<(FoldLimits, Vec<DistanceConstraint>)>,
 }
 
 /// XPBD: hinges, distances, bending, isometric bending, soft attachments
@@ -704,7 +704,10 @@ fn xpbd_projection(
         strain_limit_sweeps: c.strain_limit_sweeps,
         constraint_count: c.len() + hard_pins,
         free_parts: c.free_parts.ranges().to_vec(),
-        fold_distances: c.fold_distances(),
+        fold_limits: c
+            .fold_limits
+            .differ()
+            .then(|| (c.fold_limits.clone(), c.distance.items.clone())),
     })
 }
 
@@ -738,7 +741,7 @@ fn jacobi_projection(
         hinge_count: 0,
         strain_limit_sweeps: 0,
         free_parts: Vec::new(),
-        fold_distances: None,
+        fold_limits: None,
     })
 }
 
@@ -1190,20 +1193,20 @@ impl Backend for GpuBackend {
 
     fn set_fold_held(&mut self, held: bool) {
         self.fold_held = held;
-        if let Some((distances, written)) = &mut self.fold_distances {
-            if *written != Some(held) {
-                let items = self
-                    .buffers
-                    .constraints
-                    .iter()
-                    .find(|c| c.kind == ConstraintKind::Distance)
-                    .map(|c| &c.items);
-                if let Some(items) = items {
-                    let bytes = bytemuck::cast_slice(distances.when(held));
-                    self.context.queue.write_buffer(items, 0, bytes);
-                }
-                *written = Some(held);
-            }
+        let Some((limits, distances)) = &mut self.fold_limits else {
+            return;
+        };
+        if !limits.apply(held, distances) {
+            return;
+        }
+        let buffer = self
+            .buffers
+            .constraints
+            .iter()
+            .find(|c| c.kind == ConstraintKind::Distance);
+        if let Some(buffer) = buffer {
+            let bytes = bytemuck::cast_slice(distances.as_slice());
+            self.context.queue.write_buffer(&buffer.items, 0, bytes);
         }
     }
 

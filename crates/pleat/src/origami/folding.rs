@@ -7,9 +7,9 @@
 //! their full angle (the pattern's own fold angle, else 180 degrees;
 //! targets are capped at
 //! [`MAX_TARGET_ANGLE`](crate::constraint::hinge::MAX_TARGET_ANGLE) so that
-//! flat-folded layers stay apart, and the fold-angle errors are measured
-//! against the uncapped `c` times the full angle), facet hinges (flat, auxiliary and
-//! triangulation edges) are held flat by a stiffer hinge, and unassigned
+//! flat-folded layers stay apart; fold-angle errors are measured against
+//! the uncapped `c` times the full angle), facet hinges (flat, auxiliary
+//! and triangulation edges) are held flat by a stiffer hinge, and unassigned
 //! (undriven) hinges swing freely. Compliances are per unit of hinge or
 //! edge length, so a crease split by refinement is as stiff as the whole
 //! crease. The fold progress `c` is set once

@@ -89,31 +89,50 @@ pub struct XpbdConstraints {
     pub strain_limit_sweeps: u32,
     /// The cloths nothing outside holds, whose projection must not turn them.
     pub free_parts: FreeParts,
-    /// Each distance constraint's strain limit while the fold is held
-    /// (`max_stretch` as built) and while it moves, in the order of
-    /// `distance`.
-    held_max_stretch: Vec<f32>,
-    moving_max_stretch: Vec<f32>,
-    /// What [`XpbdConstraints::set_fold_held`] last set (`None` before the
-    /// first call), so that a frame like the last rewrites nothing.
-    fold_held: Option<bool>,
+    /// The distances' strain limits for a held fold and a moving one.
+    pub fold_limits: FoldLimits,
 }
 
-/// The distance constraints of [`XpbdConstraints`] in their order, with
-/// the strain limits of a held fold and of a moving one.
-pub struct FoldDistances {
-    pub held: Vec<DistanceConstraint>,
-    pub moving: Vec<DistanceConstraint>,
+/// Each distance constraint's strain limit while the fold is held
+/// (`max_stretch` as built) and while it moves (paper's,
+/// [`MOVING_FOLD_STRAIN_SCALE`] times that), in the order of
+/// [`XpbdConstraints::distance`], and which of them the constraints hold.
+#[derive(Clone, Debug)]
+pub struct FoldLimits {
+    held: Vec<f32>,
+    moving: Vec<f32>,
+    /// What [`FoldLimits::apply`] last set (`None` before the first call).
+    applied: Option<bool>,
 }
 
-impl FoldDistances {
-    /// The constraints for a fold that is `held` or moves.
-    pub fn when(&self, held: bool) -> &[DistanceConstraint] {
-        if held {
-            &self.held
-        } else {
-            &self.moving
+impl FoldLimits {
+    fn new(model: &Model, items: &[DistanceConstraint]) -> Self {
+        FoldLimits {
+            held: items.iter().map(|d| d.max_stretch).collect(),
+            moving: moving_limits(model, items),
+            applied: None,
         }
+    }
+
+    /// Whether the limits of a moving fold differ from a held one's (some
+    /// paper edge has a strain limit).
+    pub fn differ(&self) -> bool {
+        self.held != self.moving
+    }
+
+    /// Gives `items` (in the order the limits were built for) the limits
+    /// of a fold that is `held` or moves; `false`, touching nothing, where
+    /// they have them already.
+    pub fn apply(&mut self, held: bool, items: &mut [DistanceConstraint]) -> bool {
+        if self.applied == Some(held) {
+            return false;
+        }
+        self.applied = Some(held);
+        let limits = if held { &self.held } else { &self.moving };
+        for (d, &limit) in items.iter_mut().zip(limits) {
+            d.max_stretch = limit;
+        }
+        true
     }
 }
 
@@ -162,8 +181,7 @@ impl XpbdConstraints {
         }
         let (_, soft) = attachments(model);
         let distance = ColoredConstraints::new(distance, n);
-        let held_max_stretch = distance.items.iter().map(|d| d.max_stretch).collect();
-        let moving_max_stretch = moving_limits(model, &distance.items);
+        let fold_limits = FoldLimits::new(model, &distance.items);
         let strain_limit_sweeps = if distance.items.iter().any(DistanceConstraint::is_limited) {
             STRAIN_LIMIT_SWEEPS
         } else {
@@ -172,9 +190,7 @@ impl XpbdConstraints {
         XpbdConstraints {
             strain_limit_sweeps,
             free_parts: FreeParts::new(model, &inv_mass),
-            held_max_stretch,
-            moving_max_stretch,
-            fold_held: None,
+            fold_limits,
             distance,
             bending: ColoredConstraints::new(bending, n),
             isometric: ColoredConstraints::new(isometric, n),
@@ -182,28 +198,6 @@ impl XpbdConstraints {
             tethers: ColoredConstraints::new(tethers, n),
             soft_attachments: ColoredConstraints::new(soft, n),
         }
-    }
-
-    /// The distance constraints as projected while the fold is held and
-    /// while it moves ([`XpbdConstraints::set_fold_held`]), for a backend
-    /// that keeps its own copy; `None` where they are the same (no paper
-    /// edge has a strain limit).
-    pub fn fold_distances(&self) -> Option<FoldDistances> {
-        if self.held_max_stretch == self.moving_max_stretch {
-            return None;
-        }
-        let with = |limits: &[f32]| {
-            self.distance
-                .items
-                .iter()
-                .zip(limits)
-                .map(|(d, &max_stretch)| DistanceConstraint { max_stretch, ..*d })
-                .collect()
-        };
-        Some(FoldDistances {
-            held: with(&self.held_max_stretch),
-            moving: with(&self.moving_max_stretch),
-        })
     }
 
     /// Number of constraints projected per iteration.
@@ -231,23 +225,13 @@ impl XpbdConstraints {
     /// Whether the fold is held: driven creases stiffen while it is
     /// ([`crate::constraint::hinge`]); while it moves, paper's strain
     /// limits allow [`MOVING_FOLD_STRAIN_SCALE`] times their stretch.
-    /// Returns whether anything changed (a backend that keeps its own copy
-    /// of the constraints writes them again then).
+    /// Returns whether anything changed ([`FoldLimits::apply`]).
     pub fn set_fold_held(&mut self, held: bool) -> bool {
-        if self.fold_held == Some(held) {
+        if !self.fold_limits.apply(held, &mut self.distance.items) {
             return false;
         }
-        self.fold_held = Some(held);
         for h in &mut self.hinges.items {
             h.stiffen = held as u32;
-        }
-        let limits = if held {
-            &self.held_max_stretch
-        } else {
-            &self.moving_max_stretch
-        };
-        for (d, &limit) in self.distance.items.iter_mut().zip(limits) {
-            d.max_stretch = limit;
         }
         true
     }
