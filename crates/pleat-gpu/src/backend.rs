@@ -24,7 +24,7 @@ use pleat::model::Model;
 use pleat::solver::jacobi::JacobiConstraints;
 use pleat::solver::parallel::ColoredConstraints;
 use pleat::solver::position_based::attachments;
-use pleat::solver::xpbd::{FoldLimits, XpbdConstraints};
+use pleat::solver::xpbd::{FoldLimits, XpbdConstraints, FOLD_HOLD_SWEEPS};
 use pleat::solver::{substep_times, SolverKind, SolverSettings, StageTimes};
 use pleat::{Backend, Particles, World};
 use wgpu::util::DeviceExt;
@@ -135,6 +135,9 @@ pub struct GpuBackend {
     /// strain limits for a held fold and a moving one (paper's give while
     /// it moves); `None` where the two are the same.
     fold_limits: Option<(FoldLimits, Vec<DistanceConstraint>)>,
+    /// Whether the fold came to rest since the last frame: its held limits
+    /// are swept over the positions before the next prediction.
+    fold_came_to_rest: bool,
 }
 
 /// Buffers of the kernels of group 1, by kernel.
@@ -405,6 +408,7 @@ impl GpuBackend {
             progress: 0.0,
             fold_held: false,
             fold_limits,
+            fold_came_to_rest: false,
         };
         Ok((backend, notes))
     }
@@ -970,6 +974,24 @@ impl GpuBackend {
 
     /// Records one substep as four passes (stamped where the adapter has
     /// timestamps): prediction, constraints, self-contacts, collisions.
+    /// [`FOLD_HOLD_SWEEPS`] sweeps of the strain limits over the positions
+    /// alone, before the frame's first prediction: the velocities stay as
+    /// they are ([`XpbdConstraints::meet_held_limits`]; sweeps past the
+    /// CPU's last find every edge within its limit and move nothing).
+    fn record_held_limits(&self, encoder: &mut wgpu::CommandEncoder) {
+        let Some((limit, _)) = &self.stages.strain_limit else {
+            return;
+        };
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("held fold limits"),
+            timestamp_writes: None,
+        });
+        pass.set_bind_group(0, &self.stages.state, &[0]);
+        for _ in 0..FOLD_HOLD_SWEEPS {
+            dispatch(&mut pass, limit, None);
+        }
+    }
+
     fn record_substep(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -1163,6 +1185,9 @@ impl Backend for GpuBackend {
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                     label: Some("frame"),
                 });
+        if std::mem::take(&mut self.fold_came_to_rest) {
+            self.record_held_limits(&mut encoder);
+        }
         for s in 0..substeps {
             for lambda in &self.lambdas {
                 encoder.clear_buffer(lambda, 0, None);
@@ -1208,6 +1233,7 @@ impl Backend for GpuBackend {
             let bytes = bytemuck::cast_slice(distances.as_slice());
             self.context.queue.write_buffer(&buffer.items, 0, bytes);
         }
+        self.fold_came_to_rest = held;
     }
 
     fn finish(&mut self, stages: &mut StageTimes) {

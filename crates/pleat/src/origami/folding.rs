@@ -32,8 +32,11 @@
 //! states that inextensible paper cannot reach from the flat sheet with
 //! every crease driven at once (with inextensible edges the flapping bird
 //! jams at 178 degrees from its target; with these it folds within 3). The
-//! strain limit keeps that give small: the edges are soft within 1 % of
-//! their length and inextensible beyond it, so the compromise is taken by
+//! strain limit keeps that give small once the fold is held: the edges are
+//! soft within 1 % of their length and inextensible beyond it (20 times
+//! that while the progress moves, and swept back within it over the
+//! positions alone when the fold comes to rest,
+//! [`crate::solver::xpbd::MOVING_FOLD_STRAIN_SCALE`]), so the compromise is taken by
 //! the creases and by facets bending (as soft as the creases: the crane
 //! ends 87 degrees from its worst target, against 127 with facets ten times
 //! stiffer and no limit). Without the limit, stiff creases strain the
