@@ -93,8 +93,10 @@ struct PerSubstep {
 }
 
 /// Polls a blocking read of the state makes before it reports the state
-/// lost ([`GpuBackend::read_state`]).
-const READBACK_POLLS: u32 = 8;
+/// lost ([`GpuBackend::read_state`]): eight were not always enough on
+/// lavapipe with the devices of parallel tests busy (a CI check lost the
+/// crane's state after 30 frames); a poll of an idle device is cheap.
+const READBACK_POLLS: u32 = 10_000;
 
 /// The XPBD solver on a GPU.
 pub struct GpuBackend {
@@ -1083,6 +1085,7 @@ impl GpuBackend {
             if let Some(state) = readback.try_take() {
                 return state;
             }
+            std::thread::yield_now();
         }
         Err(GpuError::Readback("the state did not arrive".into()))
     }

@@ -21,8 +21,11 @@ const STRAIN_LIMIT: f32 = 0.02;
 /// Patterns Origami Simulator folds to within 1 degree at full progress,
 /// and the map fold, Moosers' train (0.8 degrees there) and the flat
 /// crane, which jammed on the way with paper held within 1 % while the
-/// fold moved: all must end within 5 degrees here.
-const WITHIN_FIVE_DEGREES: [&str; 9] = [
+/// fold moved, and the mazes helloworld (0.57 there) and cross, which
+/// jammed with paper that gave 2 %: all must end within 5 degrees here.
+const WITHIN_FIVE_DEGREES: [&str; 11] = [
+    "helloworld.svg",
+    "cross.svg",
     "mapfold.svg",
     "MoosersTrainRigid-Gardner.svg",
     "flat_crane.svg",
@@ -85,7 +88,7 @@ fn fold(path: &Path, progress: f32) -> (FoldMetrics, bool) {
 #[test]
 fn every_library_pattern_folds_stably_with_little_strain() {
     let files = files();
-    assert_eq!(files.len(), 24, "{files:?}");
+    assert_eq!(files.len(), 26, "{files:?}");
     let results: Vec<(String, f32, FoldMetrics, bool)> = std::thread::scope(|scope| {
         let handles: Vec<_> = files
             .iter()
