@@ -94,6 +94,22 @@ fn origami_hinge_kernels() {
     one_frame_matches(text, "origami hinges");
 }
 
+/// A Miura-ori of paper-like cloth limited to 1 % strain, with `substeps`,
+/// the edges' `stretch_compliance` and its fold `(progress, frames_to_fold)`.
+fn limited_miura_paper(substeps: u32, stretch_compliance: f32, fold: (f32, u32)) -> String {
+    format!(
+        r#"{{ "name": "k", "frames": 2, "fps": 60, "gravity": [0, 0, 0],
+            "solver": {{ "substeps": {substeps} }},
+            "cloths": [ {{ "mesh": {{ "pattern": {{ "builtin": "miura-ori", "size": 1.0 }} }},
+                          "material": {{ "density": 0.08, "thickness": 0.0,
+                                         "stretch_compliance": {stretch_compliance:e},
+                                         "max_strain": 0.01 }} }} ],
+            "fold": {{ "progress": {progress:?}, "frames_to_fold": {frames} }} }}"#,
+        progress = fold.0,
+        frames = fold.1
+    )
+}
+
 #[test]
 fn strain_limit_kernel_while_the_fold_moves() {
     // Soft paper driven hard: its edges stretch past their 1 % limit, which
@@ -101,13 +117,8 @@ fn strain_limit_kernel_while_the_fold_moves() {
     // the backend writes the moving limits into its items).
     // One frame: later the CPU's further sweeps, which the GPU has not,
     // pull edges left beyond 1.8 times the limit (1.3e-4 m apart at ten).
-    let text = r#"{ "name": "k", "frames": 1, "fps": 60, "gravity": [0, 0, 0],
-        "solver": { "substeps": 4 },
-        "cloths": [ { "mesh": { "pattern": { "builtin": "miura-ori", "size": 1.0 } },
-                      "material": { "density": 0.08, "thickness": 0.0, "stretch_compliance": 1e-3,
-                                    "max_strain": 0.01 } } ],
-        "fold": { "progress": 1.0, "frames_to_fold": 10 } }"#;
-    frames_match(text, "strain limit while the fold moves", 1);
+    let text = limited_miura_paper(4, 1e-3, (1.0, 10));
+    frames_match(&text, "strain limit while the fold moves", 1);
 }
 
 #[test]
@@ -119,13 +130,7 @@ fn strain_limit_kernel_when_the_fold_comes_to_rest() {
     // pass the GPU differs by 8.7e-3 m; with it by 3.6e-4, the CPU's
     // further sweeps in the substeps (the GPU has two) pulling edges left
     // beyond 1.8 times the limit.
-    let text = r#"{ "name": "k", "frames": 2, "fps": 60, "gravity": [0, 0, 0],
-        "solver": { "substeps": 16 },
-        "cloths": [ { "mesh": { "pattern": { "builtin": "miura-ori", "size": 1.0 } },
-                      "material": { "density": 0.08, "thickness": 0.0, "stretch_compliance": 1e-1,
-                                    "max_strain": 0.01 } } ],
-        "fold": { "progress": 0.2, "frames_to_fold": 1 } }"#;
-    let scene = scene(text);
+    let scene = scene(&limited_miura_paper(16, 1e-1, (0.2, 1)));
     let (mut c, mut g) = (cpu(&scene), gpu(&scene));
     run(&mut c, &scene, 2);
     run(&mut g, &scene, 2);
