@@ -7,7 +7,6 @@
 //! contacts and derive velocities from the change of position.
 
 use super::parallel::ColoredConstraints;
-use super::xpbd::{predict, update_velocities};
 use super::{SolverSettings, StageTimes};
 use crate::collide::body_contact::BodyContacts;
 use crate::collide::{project_contacts, ColliderPose};
@@ -18,6 +17,7 @@ use crate::model::Model;
 use crate::particles::Particles;
 use crate::world::World;
 use glam::Vec3;
+use rayon::prelude::*;
 
 /// Inverse particle masses of the model; zero for hard-pinned particles.
 pub fn inverse_masses(model: &Model) -> Vec<f32> {
@@ -283,4 +283,28 @@ impl PbdLoop {
         self.contacts.resolve(p, world, t, dt, stages);
         StageTimes::time(&mut stages.predict, || update_velocities(p, dt));
     }
+}
+
+/// `v += dt g`, damping, `x_prev = x`, `x += dt v` for every dynamic particle.
+pub(super) fn predict(p: &mut Particles, gravity: Vec3, damping: f32, dt: f32) {
+    let keep = (1.0 - damping * dt).max(0.0);
+    (&mut p.x, &mut p.x_prev, &mut p.v, &p.inv_mass)
+        .into_par_iter()
+        .with_min_len(2048)
+        .for_each(|(x, x_prev, v, &w)| {
+            *x_prev = *x;
+            if w > 0.0 {
+                *v = (*v + gravity * dt) * keep;
+                *x += *v * dt;
+            }
+        });
+}
+
+/// `v = (x - x_prev) / dt`.
+pub(super) fn update_velocities(p: &mut Particles, dt: f32) {
+    let inv_dt = 1.0 / dt;
+    (&p.x, &p.x_prev, &mut p.v)
+        .into_par_iter()
+        .with_min_len(2048)
+        .for_each(|(x, x_prev, v)| *v = (*x - *x_prev) * inv_dt);
 }

@@ -7,7 +7,7 @@
 
 use super::momentum::FreeParts;
 use super::parallel::ColoredConstraints;
-use super::position_based::{attachments, inverse_masses, Contacts, Prediction};
+use super::position_based::{attachments, inverse_masses, update_velocities, Contacts, Prediction};
 use super::springs::skip_one_pairs;
 use super::{SolverKind, SolverSettings, StageTimes};
 use crate::collide::SelfContacts;
@@ -438,30 +438,6 @@ fn moving_limits(model: &Model, items: &[DistanceConstraint]) -> Vec<f32> {
             }
         })
         .collect()
-}
-
-/// `v += dt g`, damping, `x_prev = x`, `x += dt v` for every dynamic particle.
-pub(super) fn predict(p: &mut Particles, gravity: Vec3, damping: f32, dt: f32) {
-    let keep = (1.0 - damping * dt).max(0.0);
-    (&mut p.x, &mut p.x_prev, &mut p.v, &p.inv_mass)
-        .into_par_iter()
-        .with_min_len(2048)
-        .for_each(|(x, x_prev, v, &w)| {
-            *x_prev = *x;
-            if w > 0.0 {
-                *v = (*v + gravity * dt) * keep;
-                *x += *v * dt;
-            }
-        });
-}
-
-/// `v = (x - x_prev) / dt`.
-pub(super) fn update_velocities(p: &mut Particles, dt: f32) {
-    let inv_dt = 1.0 / dt;
-    (&p.x, &p.x_prev, &mut p.v)
-        .into_par_iter()
-        .with_min_len(2048)
-        .for_each(|(x, x_prev, v)| *v = (*x - *x_prev) * inv_dt);
 }
 
 /// Stretch and shear constraints on every mesh edge of cloth `index`,
