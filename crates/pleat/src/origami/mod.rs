@@ -10,6 +10,7 @@ pub mod builtin;
 pub mod cp;
 pub mod fold;
 pub mod folding;
+pub mod load;
 mod path_data;
 pub mod pattern;
 pub mod planar;
@@ -25,9 +26,7 @@ pub use folding::{
     Paper, PaperStiffness, WorstFacet, WorstHinge, PAPER_MAX_STRAIN, PAPER_STRETCH_COMPLIANCE,
     PAPER_VERTEX_MASS,
 };
-pub use pattern::{
-    load_pattern, load_pattern_with_warnings, parse_pattern, Assignment, CreasePattern,
-    PatternEdge, PatternError,
-};
+pub use load::{load_pattern, load_pattern_with_warnings, parse_pattern};
+pub use pattern::{Assignment, CreasePattern, PatternEdge, PatternError};
 pub use sheet::{Hinge, Sheet, SheetOptions, MERGE_TOLERANCE};
 pub use svg::{parse_svg, SvgImport};

@@ -1,14 +1,10 @@
 //! The crease pattern as imported: vertices, edges with their mountain/valley
-//! assignment, the import error type and `load_pattern`, which picks the
-//! importer from the file extension.
+//! assignment, and the import error type.
 
 use std::collections::HashMap;
 use std::fmt;
-use std::path::Path;
 
 use glam::DVec2;
-
-use super::{cp, fold, svg};
 
 /// What an edge of a crease pattern is (FOLD's `edges_assignment`, ORIPA's
 /// line type, Origami Simulator's stroke colour).
@@ -175,82 +171,9 @@ impl fmt::Display for PatternError {
 
 impl std::error::Error for PatternError {}
 
-/// Reads a crease pattern, choosing the importer from the extension
-/// (`.cp`, `.fold`, `.svg`, any case). Errors name the file.
-pub fn load_pattern(path: impl AsRef<Path>) -> Result<CreasePattern, PatternError> {
-    load_pattern_with_warnings(path).map(|(pattern, _)| pattern)
-}
-
-/// As [`load_pattern`], also returning the importer's warnings (SVG strokes
-/// of colours that mean nothing in Origami Simulator's convention).
-pub fn load_pattern_with_warnings(
-    path: impl AsRef<Path>,
-) -> Result<(CreasePattern, Vec<String>), PatternError> {
-    let path = path.as_ref();
-    let name = path.display().to_string();
-    read_and_parse(path).map_err(|e| e.with_file(name))
-}
-
-fn read_and_parse(path: &Path) -> Result<(CreasePattern, Vec<String>), PatternError> {
-    let bytes =
-        std::fs::read(path).map_err(|e| PatternError::new("", format!("cannot read: {e}")))?;
-    parse_by_extension(&extension_of(path), &bytes)
-}
-
-/// Reads a crease pattern held in memory (a file dropped on a web page),
-/// choosing the importer from `name`'s extension as [`load_pattern`] does;
-/// errors name `name`. Also returns the importer's warnings.
-pub fn parse_pattern(
-    name: &str,
-    bytes: &[u8],
-) -> Result<(CreasePattern, Vec<String>), PatternError> {
-    parse_by_extension(&extension_of(Path::new(name)), bytes).map_err(|e| e.with_file(name))
-}
-
-fn extension_of(path: &Path) -> String {
-    path.extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-        .unwrap_or_default()
-}
-
-fn parse_by_extension(
-    extension: &str,
-    bytes: &[u8],
-) -> Result<(CreasePattern, Vec<String>), PatternError> {
-    let text = std::str::from_utf8(bytes).map_err(|e| {
-        PatternError::new(format!("byte {}", e.valid_up_to()), "not valid UTF-8 text")
-    })?;
-    match extension {
-        "cp" => cp::parse_cp(text).map(|p| (p, Vec::new())),
-        "fold" => fold::parse_fold(text).map(|p| (p, Vec::new())),
-        "svg" => svg::parse_svg(text).map(|import| (import.pattern, import.warnings)),
-        other => Err(PatternError::new(
-            "",
-            format!("unknown crease-pattern extension '.{other}' (expected .cp, .fold or .svg)"),
-        )),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn patterns_in_memory_read_as_files_do() {
-        let (p, _) = parse_pattern(
-            "drop.CP",
-            b"1 0 0 1 0\n1 1 0 1 1\n1 1 1 0 1\n1 0 1 0 0\n2 0 0 1 1\n",
-        )
-        .unwrap();
-        assert_eq!(p.edges.len(), 5);
-        let e = parse_pattern("drop.cp", b"1 0 0 1\n")
-            .unwrap_err()
-            .to_string();
-        assert!(e.starts_with("drop.cp: line 1"), "{e}");
-        let e = parse_pattern("drop.png", b"").unwrap_err().to_string();
-        assert!(e.contains("drop.png") && e.contains(".png"), "{e}");
-    }
 
     #[test]
     fn error_display_names_file_location_and_reason() {
@@ -273,14 +196,5 @@ mod tests {
         assert_eq!(pattern.vertices.len(), 2);
         assert_eq!(pattern.edges[1].v, [1, 0]);
         assert_eq!(pattern.crease_count(), 2);
-    }
-
-    #[test]
-    fn unknown_extension_is_refused_with_file_name() {
-        let dir = std::env::temp_dir().join("pleat-pattern-ext-test.txt");
-        std::fs::write(&dir, "1 0 0 1 1").unwrap();
-        let e = load_pattern(&dir).unwrap_err();
-        assert!(e.to_string().contains("pleat-pattern-ext-test.txt"));
-        assert!(e.reason.contains("unknown crease-pattern extension"));
     }
 }
