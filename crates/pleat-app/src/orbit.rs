@@ -1,6 +1,8 @@
-//! An orbiting camera: yaw and pitch around a target, a distance, and the
-//! rays through the picture that picking and dragging follow.
+//! An orbiting camera: yaw and pitch around a target, a distance, the rays
+//! through the picture that picking and dragging follow, and where it draws
+//! world points on a view's rectangle ([`Projection`]).
 
+use eframe::egui;
 use glam::{Mat4, Vec2, Vec3, Vec4Swizzles};
 use pleat_render::Camera;
 
@@ -81,6 +83,56 @@ impl Orbit {
         };
         let (near, far) = (unproject(0.0), unproject(1.0));
         (camera.position, (far - near).normalize_or(Vec3::NEG_Z))
+    }
+}
+
+/// Where the orbit's camera draws world points on the view's rectangle.
+pub struct Projection {
+    orbit: Orbit,
+    view_proj: Mat4,
+    rect: egui::Rect,
+}
+
+impl Projection {
+    pub fn new(orbit: Orbit, rect: egui::Rect) -> Self {
+        // Near and far planes do not move points across the screen.
+        let view_proj = orbit
+            .camera()
+            .view_proj(rect.aspect_ratio(), orbit.distance);
+        Projection {
+            orbit,
+            view_proj,
+            rect,
+        }
+    }
+
+    /// The window point where `p` is drawn; `None` behind the camera.
+    pub fn to_screen(&self, p: Vec3) -> Option<egui::Pos2> {
+        let clip = self.view_proj * p.extend(1.0);
+        (clip.w > 1e-6).then(|| {
+            let ndc = clip.truncate() / clip.w;
+            egui::pos2(
+                self.rect.left() + (ndc.x * 0.5 + 0.5) * self.rect.width(),
+                self.rect.top() + (0.5 - ndc.y * 0.5) * self.rect.height(),
+            )
+        })
+    }
+
+    /// Distance of `p` in front of the camera (m).
+    pub fn depth(&self, p: Vec3) -> f32 {
+        (self.view_proj * p.extend(1.0)).w
+    }
+
+    /// The camera's position and the direction of the ray through `pos`.
+    pub fn ray(&self, pos: egui::Pos2) -> (Vec3, Vec3) {
+        let uv = (pos - self.rect.min) / self.rect.size();
+        self.orbit
+            .ray(Vec2::new(uv.x, uv.y), self.rect.aspect_ratio())
+    }
+
+    /// The camera's position.
+    pub fn eye(&self) -> Vec3 {
+        self.orbit.camera().position
     }
 }
 

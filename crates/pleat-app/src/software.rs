@@ -3,8 +3,8 @@
 //! back to front and shaded flat by a directional light, both sides coloured
 //! as pleat-render colours them, over a ground grid. Colliders are not drawn.
 
+use crate::orbit::Projection;
 use crate::session::Session;
-use crate::viewport::Projection;
 use eframe::egui;
 use glam::Vec3;
 
