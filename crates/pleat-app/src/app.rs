@@ -299,7 +299,7 @@ impl eframe::App for PleatApp {
         egui::Panel::left("controls")
             .resizable(true)
             .default_size(300.0)
-            .show(ui, |ui| crate::panels::show(ui, self));
+            .show(ui, |ui| self.side_panel(ui));
         egui::CentralPanel::default().show(ui, |ui| {
             self.error_bar(ui);
             let (Some(state), Some(session)) = (frame.wgpu_render_state(), &mut self.session)

@@ -10,38 +10,41 @@ use eframe::egui;
 use pleat::solver::SolverKind;
 use pleat_render::View;
 
-/// Draws the panel's contents; changes the app or queues commands.
-pub fn show(ui: &mut egui::Ui, app: &mut PleatApp) {
-    egui::ScrollArea::vertical().show(ui, |ui| {
-        ui.heading("pleat");
-        scene_menus(ui, app);
-        ui.separator();
-        transport(ui, app);
-        ui.separator();
-        backend_and_view(ui, app);
-        for (section, title) in [
-            (Section::Solver, "Solver"),
-            (Section::Material, "Material"),
-            (Section::Paper, "Paper"),
-            (Section::Contact, "Contact"),
-            (Section::Forces, "Gravity and wind"),
-            (Section::Fold, "Fold"),
-        ] {
-            parameters(ui, app, section, title);
-        }
-        ui.separator();
-        statistics(ui, app);
-        ui.separator();
-        ui.horizontal(|ui| {
-            if ui.button("Export OBJ").clicked() {
-                app.commands.push(Command::Export("obj"));
+impl PleatApp {
+    /// Draws the side panel's contents; changes the app or queues commands.
+    pub(crate) fn side_panel(&mut self, ui: &mut egui::Ui) {
+        let app = self;
+        egui::ScrollArea::vertical().show(ui, |ui| {
+            ui.heading("pleat");
+            scene_menus(ui, app);
+            ui.separator();
+            transport(ui, app);
+            ui.separator();
+            backend_and_view(ui, app);
+            for (section, title) in [
+                (Section::Solver, "Solver"),
+                (Section::Material, "Material"),
+                (Section::Paper, "Paper"),
+                (Section::Contact, "Contact"),
+                (Section::Forces, "Gravity and wind"),
+                (Section::Fold, "Fold"),
+            ] {
+                parameters(ui, app, section, title);
             }
-            if ui.button("Export glb").clicked() {
-                app.commands.push(Command::Export("glb"));
-            }
+            ui.separator();
+            statistics(ui, app);
+            ui.separator();
+            ui.horizontal(|ui| {
+                if ui.button("Export OBJ").clicked() {
+                    app.commands.push(Command::Export("obj"));
+                }
+                if ui.button("Export glb").clicked() {
+                    app.commands.push(Command::Export("glb"));
+                }
+            });
+            ui.small("Drop a scene (.json), a mesh (.obj) or a crease pattern (.cp, .fold, .svg) on the window.");
         });
-        ui.small("Drop a scene (.json), a mesh (.obj) or a crease pattern (.cp, .fold, .svg) on the window.");
-    });
+    }
 }
 
 fn scene_menus(ui: &mut egui::Ui, app: &mut PleatApp) {
