@@ -137,9 +137,6 @@ pub struct GpuBackend {
     /// strain limits for a held fold and a moving one (paper's give while
     /// it moves); `None` where the two are the same.
     fold_limits: Option<(FoldLimits, Vec<DistanceConstraint>)>,
-    /// Whether the fold came to rest since the last frame: its held limits
-    /// are swept over the positions before the next prediction.
-    fold_came_to_rest: bool,
 }
 
 /// Buffers of the kernels of group 1, by kernel.
@@ -410,7 +407,6 @@ impl GpuBackend {
             progress: 0.0,
             fold_held: false,
             fold_limits,
-            fold_came_to_rest: false,
         };
         Ok((backend, notes))
     }
@@ -974,8 +970,6 @@ impl GpuBackend {
         substeps
     }
 
-    /// Records one substep as four passes (stamped where the adapter has
-    /// timestamps): prediction, constraints, self-contacts, collisions.
     /// [`FOLD_HOLD_SWEEPS`] sweeps of the strain limits over the positions
     /// alone, before the frame's first prediction: the velocities stay as
     /// they are ([`XpbdConstraints::meet_held_limits`]; sweeps past the
@@ -994,6 +988,8 @@ impl GpuBackend {
         }
     }
 
+    /// Records one substep as four passes (stamped where the adapter has
+    /// timestamps): prediction, constraints, self-contacts, collisions.
     fn record_substep(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -1188,7 +1184,11 @@ impl Backend for GpuBackend {
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                     label: Some("frame"),
                 });
-        if std::mem::take(&mut self.fold_came_to_rest) {
+        let came_to_rest = self
+            .fold_limits
+            .as_mut()
+            .is_some_and(|(limits, _)| limits.take_came_to_rest());
+        if came_to_rest {
             self.record_held_limits(&mut encoder);
         }
         for s in 0..substeps {
@@ -1236,7 +1236,6 @@ impl Backend for GpuBackend {
             let bytes = bytemuck::cast_slice(distances.as_slice());
             self.context.queue.write_buffer(&buffer.items, 0, bytes);
         }
-        self.fold_came_to_rest = held;
     }
 
     fn finish(&mut self, stages: &mut StageTimes) {

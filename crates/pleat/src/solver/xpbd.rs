@@ -79,9 +79,6 @@ pub struct Xpbd {
     contacts: Contacts,
     /// Self-collision and cloth-cloth contact, when enabled.
     self_contacts: Option<SelfContacts>,
-    /// Whether the fold came to rest since the last step, so that its
-    /// limits are to be met before the next ([`FOLD_HOLD_SWEEPS`]).
-    fold_came_to_rest: bool,
 }
 
 /// The cloth's own constraints as XPBD projects them, each kind coloured
@@ -117,6 +114,9 @@ pub struct FoldLimits {
     moving: Vec<f32>,
     /// What [`FoldLimits::apply`] last set (`None` before the first call).
     applied: Option<bool>,
+    /// Whether the fold came to rest since [`FoldLimits::take_came_to_rest`]
+    /// last looked.
+    came_to_rest: bool,
 }
 
 impl FoldLimits {
@@ -125,6 +125,7 @@ impl FoldLimits {
             held: items.iter().map(|d| d.max_stretch).collect(),
             moving: moving_limits(model, items),
             applied: None,
+            came_to_rest: false,
         }
     }
 
@@ -142,11 +143,19 @@ impl FoldLimits {
             return false;
         }
         self.applied = Some(held);
+        self.came_to_rest = held && self.differ();
         let limits = if held { &self.held } else { &self.moving };
         for (d, &limit) in items.iter_mut().zip(limits) {
             d.max_stretch = limit;
         }
         true
+    }
+
+    /// Whether the fold came to rest (its limits tightened) since the last
+    /// call: the held limits are then to be met over the positions alone
+    /// before the next prediction ([`FOLD_HOLD_SWEEPS`]).
+    pub fn take_came_to_rest(&mut self) -> bool {
+        std::mem::take(&mut self.came_to_rest)
     }
 }
 
@@ -338,7 +347,6 @@ impl Xpbd {
                 .self_collision
                 .enabled
                 .then(|| SelfContacts::new(model, settings.self_collision)),
-            fold_came_to_rest: false,
         }
     }
 
@@ -398,9 +406,7 @@ impl super::Solver for Xpbd {
     }
 
     fn set_fold_held(&mut self, held: bool) {
-        if self.constraints.set_fold_held(held) {
-            self.fold_came_to_rest = held && self.constraints.fold_limits.differ();
-        }
+        self.constraints.set_fold_held(held);
     }
 
     fn step(
@@ -410,7 +416,7 @@ impl super::Solver for Xpbd {
         frame_dt: f32,
         stages: &mut StageTimes,
     ) {
-        if std::mem::take(&mut self.fold_came_to_rest) {
+        if self.constraints.fold_limits.take_came_to_rest() {
             StageTimes::time(&mut stages.constraints, || {
                 self.constraints.meet_held_limits(particles)
             });
@@ -535,7 +541,7 @@ mod tests {
         }
         solver.set_fold_held(false);
         solver.set_fold_held(true);
-        assert!(solver.fold_came_to_rest);
+        assert!(solver.constraints.fold_limits.came_to_rest);
         if hold_sweeps {
             let v = p.v.clone();
             solver.constraints.meet_held_limits(&mut p);
