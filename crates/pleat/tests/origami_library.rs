@@ -21,9 +21,15 @@ const STRAIN_LIMIT: f32 = 0.02;
 /// Patterns Origami Simulator folds to within 1 degree at full progress,
 /// and the map fold, Moosers' train (0.8 degrees there) and the flat
 /// crane, which jammed on the way with paper held within 1 % while the
-/// fold moved, and the mazes helloworld (0.57 there) and cross, which
-/// jammed with paper that gave 2 %: all must end within 5 degrees here.
-const WITHIN_FIVE_DEGREES: [&str; 11] = [
+/// fold moved, the mazes helloworld (0.57 there) and cross, which
+/// jammed with paper that gave 2 %, and the twists FTpoly7, whirlpool and
+/// langHyperbolicLimit (0.06, 0.04 and 0.003 there), which jammed while
+/// the import merged their finest features: all must end within 5 degrees
+/// here.
+const WITHIN_FIVE_DEGREES: [&str; 14] = [
+    "FTpoly7.svg",
+    "whirlpool.svg",
+    "langHyperbolicLimit.svg",
     "helloworld.svg",
     "cross.svg",
     "mapfold.svg",
@@ -88,7 +94,7 @@ fn fold(path: &Path, progress: f32) -> (FoldMetrics, bool) {
 #[test]
 fn every_library_pattern_folds_stably_with_little_strain() {
     let files = files();
-    assert_eq!(files.len(), 26, "{files:?}");
+    assert_eq!(files.len(), 29, "{files:?}");
     let results: Vec<(String, f32, FoldMetrics, bool)> = std::thread::scope(|scope| {
         let handles: Vec<_> = files
             .iter()

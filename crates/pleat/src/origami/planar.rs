@@ -3,10 +3,18 @@
 //! clean graph where edges meet only at shared vertices.
 //!
 //! Steps: merge points closer than the tolerance (relative to the pattern's
-//! diameter), split every segment at the points of other segments that lie on
-//! it (T-junctions, overlaps) and at proper crossings, drop zero-length
-//! pieces, and keep one edge per vertex pair, choosing between overlapping
-//! edges by [`Assignment::overlap_rank`](super::pattern::Assignment::overlap_rank).
+//! diameter) where they form an isolated cluster, split every segment at the
+//! points of other segments that lie on it (T-junctions, overlaps) and at
+//! proper crossings, drop zero-length pieces, and keep one edge per vertex
+//! pair, choosing between overlapping edges by
+//! [`Assignment::overlap_rank`](super::pattern::Assignment::overlap_rank).
+//! Merging joins only points closer to each other than to any other point,
+//! and no point moves onto an edge or a crossing by more than a quarter of
+//! its local feature size ([`LOCAL_FRACTION`]), so a pattern's finest
+//! features survive a tolerance chosen for its sloppiest corner: the narrow
+//! tip of Origami Simulator's whirlpool keeps its creases, and its FTpoly7
+//! (a twist whose central polygons shrink to 0.1 % of the sheet) every
+//! point its own import keeps.
 //! Candidate pairs come from a sweep over x, so sparse patterns cost close to
 //! O(n log n).
 
@@ -21,8 +29,17 @@ use super::pattern::{CreasePattern, PatternEdge, PatternError};
 /// real feature.
 pub const DEFAULT_TOLERANCE: f64 = 1e-9;
 
-/// Builds the clean planar graph of `pattern`, merging points closer than
-/// `relative_tolerance` times the diameter of its bounding box. Vertices no
+/// Largest merge tolerance in the pattern's own units: the 3 units of
+/// Origami Simulator's import. A drawing is as precise as its units, so a
+/// pattern drawn on a fine grid keeps features finer than a tolerance
+/// relative to its size (FTpoly7, 10000 units across, has central polygons
+/// 12 units wide and points 1 unit apart that are meant as one).
+pub const DRAWING_TOLERANCE: f64 = 3.0;
+
+/// Builds the clean planar graph of `pattern`, merging isolated clusters of
+/// points closer than `relative_tolerance` times the diameter of its
+/// bounding box, or [`DRAWING_TOLERANCE`] units where that is less (see
+/// [`VertexSnap`]). Vertices no
 /// edge uses are dropped. Fails on an edge naming a missing vertex, on a
 /// coordinate that is not finite and on coordinates so large that the
 /// diameter overflows.
@@ -41,13 +58,12 @@ pub fn planarize(
             "coordinates are too large: the pattern's size overflows",
         ));
     }
-    let tolerance = relative_tolerance * diameter;
+    let tolerance = (relative_tolerance * diameter).min(DRAWING_TOLERANCE);
     if tolerance <= 0.0 {
         // All points coincide: every segment has zero length.
         return Ok(CreasePattern::default());
     }
-    let mut snap = VertexSnap::new(min, tolerance);
-    let segments = snapped_segments(pattern, &mut snap);
+    let (mut snap, segments) = snapped_segments(pattern, tolerance, DEFAULT_TOLERANCE * diameter);
     let splits = find_splits(&segments, &mut snap);
     let pieces = split_segments(&segments, &splits, &snap.points);
     let kept = resolve_overlaps(pattern, pieces);
@@ -91,51 +107,222 @@ fn bounds(pattern: &CreasePattern) -> Option<(DVec2, DVec2)> {
     )
 }
 
-/// Greedy point merging on a hash grid whose cells are one tolerance wide,
-/// so every point within the tolerance of `p` lies in the 3 x 3 cells
-/// around `p`'s cell.
+/// How far a point may be moved onto an edge or a crossing, relative to its
+/// local feature size (the distance to its nearest other merged point, or
+/// the length of the edge): a quarter, so that a pattern's finest features
+/// (the narrow tip of a curved tessellation) survive the tolerance that
+/// closes a sloppy drawing's gaps.
+const LOCAL_FRACTION: f64 = 0.25;
+
+/// Merged points and the tolerance each may be moved by.
+///
+/// Input points merge in clusters: the groups that single linkage at the
+/// tolerance joins, each collapsed onto its first point when it lies within
+/// the tolerance of that point and closer together than to any other
+/// point. A group that is not (a chain of features finer than the
+/// tolerance, not one sloppy corner) is clustered again at half the
+/// tolerance, down to [`DEFAULT_TOLERANCE`]. After merging, a point lies
+/// on an edge, or a crossing snaps onto it, only within [`LOCAL_FRACTION`]
+/// of its local feature size (and of the edge's length), capped at the
+/// tolerance.
 struct VertexSnap {
-    origin: DVec2,
     tolerance: f64,
-    cells: HashMap<(i64, i64), Vec<usize>>,
     points: Vec<DVec2>,
+    /// Per merged point: how far another point may be moved onto it.
+    reach: Vec<f64>,
+    /// Hash grid of cells `tolerance / LOCAL_FRACTION` wide over `points`.
+    grid: Grid,
 }
 
 impl VertexSnap {
-    fn new(origin: DVec2, tolerance: f64) -> Self {
-        VertexSnap {
-            origin,
+    /// Merges `inputs` (in first-use order); returns the snap and, for each
+    /// input, the index of its merged point.
+    fn merge(inputs: &[DVec2], tolerance: f64, floor: f64) -> (Self, Vec<usize>) {
+        let mut all = Grid::new(tolerance);
+        for (i, &p) in inputs.iter().enumerate() {
+            all.insert(p, i);
+        }
+        let mut clusters = Vec::new();
+        let clustering = Clustering {
+            points: inputs,
+            all: &all,
+            floor,
+        };
+        clustering.split((0..inputs.len()).collect(), tolerance, &mut clusters);
+        clusters.sort_by_key(|c| c[0]);
+        let mut merged = vec![0; inputs.len()];
+        let mut points = Vec::with_capacity(clusters.len());
+        for (k, members) in clusters.iter().enumerate() {
+            points.push(inputs[members[0]]);
+            for &i in members {
+                merged[i] = k;
+            }
+        }
+        let mut grid = Grid::new(tolerance / LOCAL_FRACTION);
+        for (k, &p) in points.iter().enumerate() {
+            grid.insert(p, k);
+        }
+        let mut snap = VertexSnap {
             tolerance,
+            reach: Vec::with_capacity(points.len()),
+            points,
+            grid,
+        };
+        snap.reach = (0..snap.points.len())
+            .map(|k| snap.reach_at(snap.points[k], Some(k)))
+            .collect();
+        (snap, merged)
+    }
+
+    /// The tolerance, or a quarter of the distance from `p` to the nearest
+    /// merged point other than `own` where that is less.
+    fn reach_at(&self, p: DVec2, own: Option<usize>) -> f64 {
+        let nearest = self
+            .grid
+            .near(p)
+            .filter(|&k| Some(k) != own)
+            .map(|k| self.points[k].distance(p))
+            .fold(f64::INFINITY, f64::min);
+        self.tolerance.min(LOCAL_FRACTION * nearest)
+    }
+
+    /// How far point `end` may be from segment `s` to lie on it.
+    fn on_segment_limit(&self, end: usize, s: &Segment) -> f64 {
+        self.reach[end].min(LOCAL_FRACTION * length(s, &self.points))
+    }
+
+    /// The merged point for a crossing at `p`: an existing point within its
+    /// reach, or a new one.
+    fn snap_crossing(&mut self, p: DVec2) -> usize {
+        if let Some(k) = self
+            .grid
+            .near(p)
+            .find(|&k| self.points[k].distance(p) <= self.reach[k])
+        {
+            return k;
+        }
+        let reach = self.reach_at(p, None);
+        let k = self.points.len();
+        self.points.push(p);
+        self.reach.push(reach);
+        self.grid.insert(p, k);
+        k
+    }
+}
+
+/// Input points and a grid over all of them, for [`Clustering::split`].
+struct Clustering<'a> {
+    points: &'a [DVec2],
+    /// Cells one tolerance wide.
+    all: &'a Grid,
+    floor: f64,
+}
+
+impl Clustering<'_> {
+    /// Splits `members` into the clusters described at [`VertexSnap`]: a
+    /// group is one point when it lies within `tolerance` of its first
+    /// point and closer to it than any other point is (the ends of sloppily
+    /// drawn curves at a junction, not two points of a fine pleat).
+    fn split(&self, members: Vec<usize>, tolerance: f64, out: &mut Vec<Vec<usize>>) {
+        for group in linked_groups(self.points, &members, tolerance) {
+            let first = self.points[group[0]];
+            let extent = group
+                .iter()
+                .map(|&i| self.points[i].distance(first))
+                .fold(0.0, f64::max);
+            let tight = extent <= tolerance && extent <= self.separation(&group);
+            if tight || tolerance <= self.floor {
+                out.push(group);
+            } else {
+                self.split(group, 0.5 * tolerance, out);
+            }
+        }
+    }
+
+    /// Distance from `group` (ascending) to the nearest input point outside
+    /// it, infinite beyond the grid's reach (one cell, at least the
+    /// tolerance).
+    fn separation(&self, group: &[usize]) -> f64 {
+        group
+            .iter()
+            .flat_map(|&i| {
+                self.all
+                    .near(self.points[i])
+                    .filter(|j| group.binary_search(j).is_err())
+                    .map(move |j| self.points[j].distance(self.points[i]))
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+}
+
+/// The groups of `members` that chains of points closer than `tolerance`
+/// join, each in ascending order.
+fn linked_groups(points: &[DVec2], members: &[usize], tolerance: f64) -> Vec<Vec<usize>> {
+    let mut grid = Grid::new(tolerance);
+    let mut parent: Vec<usize> = (0..members.len()).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    for (a, &i) in members.iter().enumerate() {
+        let near: Vec<usize> = grid
+            .near(points[i])
+            .filter(|&b| points[members[b]].distance(points[i]) <= tolerance)
+            .collect();
+        for b in near {
+            let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+            parent[ra.max(rb)] = ra.min(rb);
+        }
+        grid.insert(points[i], a);
+    }
+    let mut groups: HashMap<usize, Vec<usize>> = HashMap::new();
+    for (a, &i) in members.iter().enumerate() {
+        groups.entry(root(&mut parent, a)).or_default().push(i);
+    }
+    let mut groups: Vec<Vec<usize>> = groups.into_values().collect();
+    for g in &mut groups {
+        g.sort_unstable();
+    }
+    groups
+}
+
+/// Hash grid of points; every point within one cell width of `p` lies in
+/// the 3 x 3 cells around `p`'s cell.
+struct Grid {
+    width: f64,
+    cells: HashMap<(i64, i64), Vec<usize>>,
+}
+
+impl Grid {
+    fn new(width: f64) -> Self {
+        Grid {
+            width,
             cells: HashMap::new(),
-            points: Vec::new(),
         }
     }
 
     fn cell(&self, p: DVec2) -> (i64, i64) {
         // `as` saturates, so far-away or odd points still land in a cell.
-        let c = ((p - self.origin) / self.tolerance).floor();
+        let c = (p / self.width).floor();
         (c.x as i64, c.y as i64)
     }
 
-    /// Index of the merged point for `p`, creating one when none is near.
-    fn snap(&mut self, p: DVec2) -> usize {
+    fn insert(&mut self, p: DVec2, k: usize) {
+        self.cells.entry(self.cell(p)).or_default().push(k);
+    }
+
+    fn near(&self, p: DVec2) -> impl Iterator<Item = usize> + '_ {
         let (cx, cy) = self.cell(p);
-        for dx in -1..=1 {
-            for dy in -1..=1 {
-                let key = (cx.saturating_add(dx), cy.saturating_add(dy));
-                if let Some(found) = self.cells.get(&key).and_then(|list| {
-                    list.iter()
-                        .copied()
-                        .find(|&i| self.points[i].distance(p) <= self.tolerance)
-                }) {
-                    return found;
-                }
-            }
-        }
-        self.points.push(p);
-        let index = self.points.len() - 1;
-        self.cells.entry((cx, cy)).or_default().push(index);
-        index
+        (-1..=1)
+            .flat_map(move |dx| {
+                (-1..=1).map(move |dy| (cx.saturating_add(dx), cy.saturating_add(dy)))
+            })
+            .filter_map(|key| self.cells.get(&key))
+            .flatten()
+            .copied()
     }
 }
 
@@ -146,20 +333,31 @@ struct Segment {
     source: usize,
 }
 
-fn snapped_segments(pattern: &CreasePattern, snap: &mut VertexSnap) -> Vec<Segment> {
-    let mut merged: HashMap<usize, usize> = HashMap::new();
-    let mut segments = Vec::with_capacity(pattern.edges.len());
-    for (source, edge) in pattern.edges.iter().enumerate() {
-        let v = edge.v.map(|i| {
-            *merged
-                .entry(i)
-                .or_insert_with(|| snap.snap(pattern.vertices[i]))
+fn snapped_segments(
+    pattern: &CreasePattern,
+    tolerance: f64,
+    floor: f64,
+) -> (VertexSnap, Vec<Segment>) {
+    let mut input_of: HashMap<usize, usize> = HashMap::new();
+    let mut inputs = Vec::new();
+    for i in pattern.edges.iter().flat_map(|e| e.v) {
+        input_of.entry(i).or_insert_with(|| {
+            inputs.push(pattern.vertices[i]);
+            inputs.len() - 1
         });
-        if v[0] != v[1] {
-            segments.push(Segment { v, source });
-        }
     }
-    segments
+    let (snap, merged) = VertexSnap::merge(&inputs, tolerance, floor);
+    let segments = pattern
+        .edges
+        .iter()
+        .enumerate()
+        .map(|(source, edge)| Segment {
+            v: edge.v.map(|i| merged[input_of[&i]]),
+            source,
+        })
+        .filter(|s| s.v[0] != s.v[1])
+        .collect();
+    (snap, segments)
 }
 
 /// For every segment, the merged points (other than its ends) that lie on it.
@@ -206,7 +404,7 @@ fn intersect_pair(
             if segments[on].v.contains(&end) {
                 touching = true;
             } else if distance_to_segment(&segments[on], snap.points[end], &snap.points)
-                <= snap.tolerance
+                <= snap.on_segment_limit(end, &segments[on])
             {
                 splits[on].push(end);
                 touching = true;
@@ -216,8 +414,8 @@ fn intersect_pair(
     if touching {
         return;
     }
-    if let Some(p) = crossing(&segments[i], &segments[j], &snap.points, snap.tolerance) {
-        let v = snap.snap(p);
+    if let Some(p) = crossing(&segments[i], &segments[j], snap) {
+        let v = snap.snap_crossing(p);
         for s in [i, j] {
             if !segments[s].v.contains(&v) {
                 splits[s].push(v);
@@ -239,22 +437,24 @@ fn side(s: &Segment, p: DVec2, points: &[DVec2]) -> f64 {
     (b - a).perp_dot(p - a) / (b - a).length()
 }
 
+fn length(s: &Segment, points: &[DVec2]) -> f64 {
+    points[s.v[0]].distance(points[s.v[1]])
+}
+
 /// The crossing point of two segments whose ends lie clearly on opposite
-/// sides of each other's lines.
-fn crossing(s: &Segment, t: &Segment, points: &[DVec2], tolerance: f64) -> Option<DVec2> {
-    let opposite =
-        |x: f64, y: f64| (x > tolerance && y < -tolerance) || (x < -tolerance && y > tolerance);
-    let (d0, d1) = (
-        side(s, points[t.v[0]], points),
-        side(s, points[t.v[1]], points),
-    );
-    let (e0, e1) = (
-        side(t, points[s.v[0]], points),
-        side(t, points[s.v[1]], points),
-    );
-    if !opposite(d0, d1) || !opposite(e0, e1) {
-        return None;
-    }
+/// sides of each other's lines: further than they may be moved onto them.
+fn crossing(s: &Segment, t: &Segment, snap: &VertexSnap) -> Option<DVec2> {
+    let points = &snap.points;
+    let clear_sides = |a: &Segment, b: &Segment| {
+        let [d0, d1] = b.v.map(|end| {
+            let d = side(a, points[end], points);
+            (d, snap.on_segment_limit(end, a))
+        });
+        let opposite = (d0.0 > d0.1 && d1.0 < -d1.1) || (d0.0 < -d0.1 && d1.0 > d1.1);
+        opposite.then_some((d0.0, d1.0))
+    };
+    let (d0, d1) = clear_sides(s, t)?;
+    clear_sides(t, s)?;
     let (p, q) = (points[t.v[0]], points[t.v[1]]);
     Some(p + (q - p) * (d0 / (d0 - d1)))
 }
@@ -418,6 +618,89 @@ mod tests {
         ]);
         assert_eq!(g.vertices.len(), 7);
         assert_eq!(g.edges.len(), 6);
+    }
+
+    /// A 1000 x 1000 square's boundary, where the default merge tolerance
+    /// of 0.3 % of the diameter is 4.2.
+    fn square() -> Vec<(Assignment, [f64; 4])> {
+        let c = [[0.0, 0.0], [1000.0, 0.0], [1000.0, 1000.0], [0.0, 1000.0]];
+        (0..4)
+            .map(|i| {
+                let (a, b) = (c[i], c[(i + 1) % 4]);
+                (Assignment::Boundary, [a[0], a[1], b[0], b[1]])
+            })
+            .collect()
+    }
+
+    fn merged(segments: &[(Assignment, [f64; 4])]) -> CreasePattern {
+        planarize(&pattern(segments), 3e-3).unwrap()
+    }
+
+    #[test]
+    fn a_sloppy_corner_and_a_near_miss_of_an_edge_close() {
+        let mut s = square();
+        // Two creases that miss each other's end by 2, one that stops 3
+        // short of the boundary.
+        s.push((Assignment::Mountain, [300.0, 300.0, 500.0, 500.0]));
+        s.push((Assignment::Valley, [501.5, 501.0, 700.0, 300.0]));
+        s.push((Assignment::Valley, [500.0, 500.0, 500.0, 997.0]));
+        let g = merged(&s);
+        // Corners, (300, 300), (700, 300), one point at (500, 500) and one
+        // where the valley meets the top edge, splitting it.
+        assert_eq!(g.vertices.len(), 8);
+        assert_eq!(g.edges.len(), 8);
+    }
+
+    #[test]
+    fn a_ring_finer_than_the_tolerance_keeps_its_points() {
+        // 24 points 2.6 apart on a circle of radius 10 (a twist's central
+        // polygon): single linkage at 4.2 joins them all, but the ring is
+        // no sloppy corner.
+        let mut s = square();
+        let at = |k: usize| {
+            let a = k as f64 * std::f64::consts::TAU / 24.0;
+            [500.0 + 10.0 * a.cos(), 500.0 + 10.0 * a.sin()]
+        };
+        for k in 0..24 {
+            let (a, b) = (at(k), at(k + 1));
+            s.push((Assignment::Mountain, [a[0], a[1], b[0], b[1]]));
+        }
+        let g = merged(&s);
+        assert_eq!(g.vertices.len(), 4 + 24);
+        assert_eq!(g.edges.len(), 4 + 24);
+    }
+
+    #[test]
+    fn a_pleat_finer_than_the_tolerance_keeps_its_lines() {
+        // Twenty creases 2 apart, finer than the tolerance of 3: every
+        // point is as close to one neighbour as to the other, so none is a
+        // sloppy corner (merging greedily kept every other line).
+        let mut s = square();
+        for k in 0..20 {
+            let x = 400.0 + 2.0 * k as f64;
+            let a = if k % 2 == 0 {
+                Assignment::Valley
+            } else {
+                Assignment::Mountain
+            };
+            s.push((a, [x, 100.0, x, 500.0]));
+        }
+        let g = merged(&s);
+        assert_eq!(g.vertices.len(), 4 + 40);
+        assert_eq!(g.edges.len(), 4 + 20);
+    }
+
+    #[test]
+    fn a_point_near_a_short_edge_is_not_moved_onto_it() {
+        // A crease of length 8 with a point 3 from it: within the
+        // tolerance, but snapping would move the point by more than a
+        // quarter of the edge.
+        let mut s = square();
+        s.push((Assignment::Mountain, [500.0, 500.0, 508.0, 500.0]));
+        s.push((Assignment::Valley, [504.0, 503.0, 504.0, 900.0]));
+        let g = merged(&s);
+        assert_eq!(g.vertices.len(), 4 + 4);
+        assert_eq!(g.edges.len(), 4 + 2);
     }
 
     #[test]

@@ -38,11 +38,14 @@ const REFINEMENT_ANGLE: f64 = 20.0;
 
 /// Default [`SheetOptions::merge_tolerance`]: 0.3 % of the pattern's
 /// diameter, the 3 px of Origami Simulator's import on its 600 to 1000 px
-/// drawings. Points that close are one vertex and a point that close to an
-/// edge lies on it, so boundaries drawn as short segments with tiny gaps
-/// close, and near-coincident vertices leave no sliver triangles (a
-/// triangle a few ten-thousandths as high as it is long has a dihedral
-/// gradient so steep that folding it blows up).
+/// drawings. Isolated points that close are one vertex and a point that
+/// close to an edge lies on it, so boundaries drawn as short segments with
+/// tiny gaps close, and near-coincident vertices leave no sliver triangles
+/// (a triangle a few ten-thousandths as high as it is long has a dihedral
+/// gradient so steep that folding it blows up). Features finer than the
+/// tolerance (a twist's central polygons) keep their points: a merge moves
+/// a point by at most a quarter of its distance to its other neighbours
+/// ([`planarize`](super::planar::planarize)).
 pub const MERGE_TOLERANCE: f64 = 3e-3;
 
 /// Largest merge tolerance accepted: beyond a tenth of the diameter whole
