@@ -67,7 +67,33 @@ pub fn planarize(
     let splits = find_splits(&segments, &mut snap);
     let pieces = split_segments(&segments, &splits, &snap.points);
     let kept = resolve_overlaps(pattern, pieces);
+    let kept = trim_stubs(kept, &snap.points, relative_tolerance * diameter);
     Ok(compact(pattern, &snap.points, &kept))
+}
+
+/// Drops the pieces that end in a point no other piece touches and are
+/// shorter than `limit` (the relative tolerance, not capped in drawing
+/// units), until none is left: a line drawn a little past the line it
+/// meets (housePopup's valley 4.9 units past a junction, closer than the
+/// 0.3 % tolerance but further than 3 units) would otherwise be a crease
+/// ending inside a facet, which folds only by crumpling it.
+fn trim_stubs(mut pieces: Vec<Piece>, points: &[DVec2], limit: f64) -> Vec<Piece> {
+    loop {
+        let mut degree: HashMap<usize, usize> = HashMap::new();
+        for piece in &pieces {
+            for v in piece.v {
+                *degree.entry(v).or_default() += 1;
+            }
+        }
+        let before = pieces.len();
+        pieces.retain(|piece| {
+            let dangling = piece.v.iter().any(|v| degree[v] == 1);
+            !(dangling && points[piece.v[0]].distance(points[piece.v[1]]) < limit)
+        });
+        if pieces.len() == before {
+            return pieces;
+        }
+    }
 }
 
 fn validate(pattern: &CreasePattern) -> Result<(), PatternError> {
@@ -701,6 +727,19 @@ mod tests {
         let g = merged(&s);
         assert_eq!(g.vertices.len(), 4 + 4);
         assert_eq!(g.edges.len(), 4 + 2);
+    }
+
+    #[test]
+    fn a_line_drawn_a_little_past_a_junction_is_trimmed() {
+        // A valley that runs 4 past the mountain it ends on: its stub is
+        // longer than the tolerance of 3, shorter than 0.3 % of the size.
+        let mut s = square();
+        s.push((Assignment::Mountain, [0.0, 500.0, 1000.0, 500.0]));
+        s.push((Assignment::Valley, [500.0, 0.0, 500.0, 504.0]));
+        let g = merged(&s);
+        assert_eq!(g.vertices.len(), 4 + 4);
+        let stub_end = DVec2::new(500.0, 504.0);
+        assert!(g.vertices.iter().all(|p| p.distance(stub_end) > 1.0));
     }
 
     #[test]
