@@ -646,31 +646,28 @@ mod tests {
         assert_eq!(g.edges.len(), 6);
     }
 
-    /// A 1000 x 1000 square's boundary, where the default merge tolerance
-    /// of 0.3 % of the diameter is 4.2.
-    fn square() -> Vec<(Assignment, [f64; 4])> {
+    /// `creases` inside a 1000 x 1000 square's boundary, cleaned with the
+    /// default merge tolerance: 0.3 % of the diameter is 4.2, so the 3
+    /// drawing units of [`DRAWING_TOLERANCE`] apply.
+    fn in_square(creases: impl IntoIterator<Item = (Assignment, [f64; 4])>) -> CreasePattern {
         let c = [[0.0, 0.0], [1000.0, 0.0], [1000.0, 1000.0], [0.0, 1000.0]];
-        (0..4)
-            .map(|i| {
-                let (a, b) = (c[i], c[(i + 1) % 4]);
-                (Assignment::Boundary, [a[0], a[1], b[0], b[1]])
-            })
-            .collect()
-    }
-
-    fn merged(segments: &[(Assignment, [f64; 4])]) -> CreasePattern {
-        planarize(&pattern(segments), 3e-3).unwrap()
+        let boundary = (0..4).map(|i| {
+            let (a, b) = (c[i], c[(i + 1) % 4]);
+            (Assignment::Boundary, [a[0], a[1], b[0], b[1]])
+        });
+        let segments: Vec<_> = boundary.chain(creases).collect();
+        planarize(&pattern(&segments), 3e-3).unwrap()
     }
 
     #[test]
     fn a_sloppy_corner_and_a_near_miss_of_an_edge_close() {
-        let mut s = square();
         // Two creases that miss each other's end by 2, one that stops 3
         // short of the boundary.
-        s.push((Assignment::Mountain, [300.0, 300.0, 500.0, 500.0]));
-        s.push((Assignment::Valley, [501.5, 501.0, 700.0, 300.0]));
-        s.push((Assignment::Valley, [500.0, 500.0, 500.0, 997.0]));
-        let g = merged(&s);
+        let g = in_square([
+            (Assignment::Mountain, [300.0, 300.0, 500.0, 500.0]),
+            (Assignment::Valley, [501.5, 501.0, 700.0, 300.0]),
+            (Assignment::Valley, [500.0, 500.0, 500.0, 997.0]),
+        ]);
         // Corners, (300, 300), (700, 300), one point at (500, 500) and one
         // where the valley meets the top edge, splitting it.
         assert_eq!(g.vertices.len(), 8);
@@ -682,16 +679,14 @@ mod tests {
         // 24 points 2.6 apart on a circle of radius 10 (a twist's central
         // polygon): single linkage at 4.2 joins them all, but the ring is
         // no sloppy corner.
-        let mut s = square();
         let at = |k: usize| {
             let a = k as f64 * std::f64::consts::TAU / 24.0;
             [500.0 + 10.0 * a.cos(), 500.0 + 10.0 * a.sin()]
         };
-        for k in 0..24 {
+        let g = in_square((0..24).map(|k| {
             let (a, b) = (at(k), at(k + 1));
-            s.push((Assignment::Mountain, [a[0], a[1], b[0], b[1]]));
-        }
-        let g = merged(&s);
+            (Assignment::Mountain, [a[0], a[1], b[0], b[1]])
+        }));
         assert_eq!(g.vertices.len(), 4 + 24);
         assert_eq!(g.edges.len(), 4 + 24);
     }
@@ -701,17 +696,15 @@ mod tests {
         // Twenty creases 2 apart, finer than the tolerance of 3: every
         // point is as close to one neighbour as to the other, so none is a
         // sloppy corner (merging greedily kept every other line).
-        let mut s = square();
-        for k in 0..20 {
+        let g = in_square((0..20).map(|k| {
             let x = 400.0 + 2.0 * k as f64;
             let a = if k % 2 == 0 {
                 Assignment::Valley
             } else {
                 Assignment::Mountain
             };
-            s.push((a, [x, 100.0, x, 500.0]));
-        }
-        let g = merged(&s);
+            (a, [x, 100.0, x, 500.0])
+        }));
         assert_eq!(g.vertices.len(), 4 + 40);
         assert_eq!(g.edges.len(), 4 + 20);
     }
@@ -721,10 +714,10 @@ mod tests {
         // A crease of length 8 with a point 3 from it: within the
         // tolerance, but snapping would move the point by more than a
         // quarter of the edge.
-        let mut s = square();
-        s.push((Assignment::Mountain, [500.0, 500.0, 508.0, 500.0]));
-        s.push((Assignment::Valley, [504.0, 503.0, 504.0, 900.0]));
-        let g = merged(&s);
+        let g = in_square([
+            (Assignment::Mountain, [500.0, 500.0, 508.0, 500.0]),
+            (Assignment::Valley, [504.0, 503.0, 504.0, 900.0]),
+        ]);
         assert_eq!(g.vertices.len(), 4 + 4);
         assert_eq!(g.edges.len(), 4 + 2);
     }
@@ -733,10 +726,10 @@ mod tests {
     fn a_line_drawn_a_little_past_a_junction_is_trimmed() {
         // A valley that runs 4 past the mountain it ends on: its stub is
         // longer than the tolerance of 3, shorter than 0.3 % of the size.
-        let mut s = square();
-        s.push((Assignment::Mountain, [0.0, 500.0, 1000.0, 500.0]));
-        s.push((Assignment::Valley, [500.0, 0.0, 500.0, 504.0]));
-        let g = merged(&s);
+        let g = in_square([
+            (Assignment::Mountain, [0.0, 500.0, 1000.0, 500.0]),
+            (Assignment::Valley, [500.0, 0.0, 500.0, 504.0]),
+        ]);
         assert_eq!(g.vertices.len(), 4 + 4);
         let stub_end = DVec2::new(500.0, 504.0);
         assert!(g.vertices.iter().all(|p| p.distance(stub_end) > 1.0));

@@ -43,8 +43,9 @@ const REFINEMENT_ANGLE: f64 = 20.0;
 /// tiny gaps close, and near-coincident vertices leave no sliver triangles
 /// (a triangle a few ten-thousandths as high as it is long has a dihedral
 /// gradient so steep that folding it blows up). Features finer than the
-/// tolerance (a twist's central polygons) keep their points: a merge moves
-/// a point by at most a quarter of its distance to its other neighbours
+/// tolerance (a twist's central polygons) keep their points: only isolated
+/// clusters merge, and a point is moved onto an edge by at most a quarter
+/// of its distance to its other neighbours
 /// ([`planarize`](super::planar::planarize)).
 pub const MERGE_TOLERANCE: f64 = 3e-3;
 
