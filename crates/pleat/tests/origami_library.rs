@@ -24,9 +24,11 @@ const STRAIN_LIMIT: f32 = 0.02;
 /// fold moved, the mazes helloworld (0.57 there) and cross, which
 /// jammed with paper that gave 2 %, and the twists FTpoly7, whirlpool and
 /// langHyperbolicLimit (0.06, 0.04 and 0.003 there), which jammed while
-/// the import merged their finest features: all must end within 5 degrees
-/// here.
-const WITHIN_FIVE_DEGREES: [&str; 14] = [
+/// the import merged their finest features, and Origami_Sphere_16Flaps
+/// (53.6 there), which jammed while the convex hull made its outline's
+/// creases hinges of sliver triangles: all must end within 5 degrees here.
+const WITHIN_FIVE_DEGREES: [&str; 15] = [
+    "Origami_Sphere_16Flaps.svg",
     "FTpoly7.svg",
     "whirlpool.svg",
     "langHyperbolicLimit.svg",
@@ -94,7 +96,7 @@ fn fold(path: &Path, progress: f32) -> (FoldMetrics, bool) {
 #[test]
 fn every_library_pattern_folds_stably_with_little_strain() {
     let files = files();
-    assert_eq!(files.len(), 29, "{files:?}");
+    assert_eq!(files.len(), 30, "{files:?}");
     let results: Vec<(String, f32, FoldMetrics, bool)> = std::thread::scope(|scope| {
         let handles: Vec<_> = files
             .iter()

@@ -5,8 +5,9 @@
 //! Delaunay (spade), every pattern edge a constraint, optionally refined to a
 //! target edge length. The paper is the region inside the boundary edges by
 //! the even-odd rule (crossing a boundary edge goes from outside to inside or
-//! back, so holes work); a pattern without boundary edges uses the convex
-//! hull. Cut edges, and boundary edges with paper on both sides (slits), split
+//! back, so holes work); a pattern without boundary edges is the region its
+//! lines enclose where that is all of their convex hull but for slivers,
+//! else the convex hull. Cut edges, and boundary edges with paper on both sides (slits), split
 //! the sheet: the vertices along them are duplicated so the sides separate.
 //! Every other edge shared by two triangles is a [`Hinge`].
 
@@ -32,6 +33,10 @@ const WALK_TOLERANCE: f64 = 1e-9;
 
 /// Coordinates in the unit box are rounded to multiples of 1 / GRID.
 const GRID: f64 = (1u64 << 40) as f64;
+
+/// Share of its convex hull a pattern without boundary edges must enclose
+/// for the enclosed region to be the paper ([`Region::without_boundary`]).
+const ENCLOSED_FRACTION: f64 = 0.99;
 
 /// Smallest angle refinement aims for, in degrees.
 const REFINEMENT_ANGLE: f64 = 20.0;
@@ -357,9 +362,7 @@ impl Region {
         let faces = cdt.num_all_faces();
         let has_boundary = cdt.fixed_undirected_edges().any(is_boundary);
         if !has_boundary {
-            let mut inside = vec![true; faces];
-            inside[OUTER_FACE.index()] = false;
-            return Region { inside };
+            return Region::without_boundary(cdt, labels);
         }
         // Faces joined by non-boundary edges form components.
         let mut sets = DisjointSets::new(faces);
@@ -396,6 +399,44 @@ impl Region {
         let inside = (0..faces)
             .map(|f| parity.get(&sets.find(f)).copied().unwrap_or(false))
             .collect();
+        Region { inside }
+    }
+}
+
+impl Region {
+    /// The paper of a pattern drawn without boundary edges: the region its
+    /// lines enclose (faces reached from outside only across a pattern
+    /// edge), as Origami Simulator's import takes it, where that is all of
+    /// the convex hull but for slivers (at least [`ENCLOSED_FRACTION`] of
+    /// its area: an outline whose points waver by a merge tolerance leaves
+    /// hair-thin triangles between it and the hull, and these would make
+    /// the outline creases hinges of paper a hair wide); else the convex
+    /// hull, as where the lines enclose nothing.
+    fn without_boundary(cdt: &Cdt, labels: &[Option<usize>]) -> Region {
+        let faces = cdt.num_all_faces();
+        let mut sets = DisjointSets::new(faces);
+        for edge in cdt.undirected_edges() {
+            if labels[edge.fix().index()].is_none() {
+                let d = edge.as_directed();
+                sets.union(d.face().fix().index(), d.rev().face().fix().index());
+            }
+        }
+        let outside = sets.find(OUTER_FACE.index());
+        let mut inside = vec![true; faces];
+        inside[OUTER_FACE.index()] = false;
+        let (mut hull_area, mut enclosed_area) = (0.0, 0.0);
+        for face in cdt.inner_faces() {
+            let area = face.area();
+            hull_area += area;
+            if sets.find(face.fix().index()) != outside {
+                enclosed_area += area;
+            }
+        }
+        if enclosed_area >= ENCLOSED_FRACTION * hull_area {
+            for (f, inside) in inside.iter_mut().enumerate() {
+                *inside = *inside && sets.find(f) != outside;
+            }
+        }
         Region { inside }
     }
 }
@@ -769,6 +810,28 @@ mod tests {
         .unwrap();
         assert_eq!(s.triangles.len(), 4);
         assert_eq!(s.crease_count(), 4);
+        assert_eq!(euler(&s), 1);
+    }
+
+    #[test]
+    fn without_boundary_an_outline_in_crease_colours_is_the_sheet() {
+        // A square drawn in mountain lines (no boundary colour), its right
+        // side bent a hair inward at its middle, with a valley diagonal.
+        // The convex hull would add a sliver triangle 1e-5 wide there and
+        // make the two right-hand mountains hinges of it (4 triangles, 3
+        // creases): the paper is what the lines enclose.
+        let m = Assignment::Mountain;
+        let s = sheet(&[
+            (m, [0.0, 0.0, 2.0, 0.0], None),
+            (m, [2.0, 0.0, 2.0 - 1e-5, 1.0], None),
+            (m, [2.0 - 1e-5, 1.0, 2.0, 2.0], None),
+            (m, [2.0, 2.0, 0.0, 2.0], None),
+            (m, [0.0, 2.0, 0.0, 0.0], None),
+            (Assignment::Valley, [0.0, 0.0, 2.0, 2.0], None),
+        ])
+        .unwrap();
+        assert_eq!(s.triangles.len(), 3);
+        assert_eq!(s.crease_count(), 1);
         assert_eq!(euler(&s), 1);
     }
 
