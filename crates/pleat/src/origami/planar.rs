@@ -29,6 +29,13 @@ use super::pattern::{CreasePattern, PatternEdge, PatternError};
 /// real feature.
 pub const DEFAULT_TOLERANCE: f64 = 1e-9;
 
+/// Finest feature kept, relative to the pattern's diameter: 0.05 %, the
+/// thickness of paper (0.1 mm) on a sheet 20 cm across. Points of a chain
+/// finer than that (the innermost turns of a spiral drawn as Bezier curves,
+/// each flattened into 8 pieces) are merged greedily: kept, they made
+/// triangles a hundredth of a millimetre across that no strain limit holds.
+pub const RESOLUTION: f64 = 5e-4;
+
 /// Largest merge tolerance in the pattern's own units: the 3 units of
 /// Origami Simulator's import. A drawing is as precise as its units, so a
 /// pattern drawn on a fine grid keeps features finer than a tolerance
@@ -63,7 +70,8 @@ pub fn planarize(
         // All points coincide: every segment has zero length.
         return Ok(CreasePattern::default());
     }
-    let (mut snap, segments) = snapped_segments(pattern, tolerance, DEFAULT_TOLERANCE * diameter);
+    let floor = (RESOLUTION * diameter).min(tolerance);
+    let (mut snap, segments) = snapped_segments(pattern, tolerance, floor);
     let splits = find_splits(&segments, &mut snap);
     let pieces = split_segments(&segments, &splits, &snap.points);
     let kept = resolve_overlaps(pattern, pieces);
@@ -147,7 +155,7 @@ const LOCAL_FRACTION: f64 = 0.25;
 /// the tolerance of that point and closer together than to any other
 /// point. A group that is not (a chain of features finer than the
 /// tolerance, not one sloppy corner) is clustered again at half the
-/// tolerance, down to [`DEFAULT_TOLERANCE`]. After merging, a point lies
+/// tolerance, down to [`RESOLUTION`], where it is merged greedily. After merging, a point lies
 /// on an edge, or a crossing snaps onto it, only within [`LOCAL_FRACTION`]
 /// of its local feature size (and of the edge's length), capped at the
 /// tolerance.
@@ -257,8 +265,10 @@ impl Clustering<'_> {
                 .map(|&i| self.points[i].distance(first))
                 .fold(0.0, f64::max);
             let tight = extent <= tolerance && extent <= self.separation(&group);
-            if tight || tolerance <= self.floor {
+            if tight {
                 out.push(group);
+            } else if tolerance <= self.floor {
+                out.extend(greedy_clusters(self.points, group, self.floor));
             } else {
                 self.split(group, 0.5 * tolerance, out);
             }
@@ -279,6 +289,22 @@ impl Clustering<'_> {
             })
             .fold(f64::INFINITY, f64::min)
     }
+}
+
+/// `group` (ascending) in clusters no wider than `radius`: each point joins
+/// the first cluster whose first point is within `radius`, else starts one.
+fn greedy_clusters(points: &[DVec2], group: Vec<usize>, radius: f64) -> Vec<Vec<usize>> {
+    let mut clusters: Vec<Vec<usize>> = Vec::new();
+    for i in group {
+        match clusters
+            .iter_mut()
+            .find(|c| points[c[0]].distance(points[i]) <= radius)
+        {
+            Some(cluster) => cluster.push(i),
+            None => clusters.push(vec![i]),
+        }
+    }
+    clusters
 }
 
 /// The groups of `members` that chains of points closer than `tolerance`
@@ -707,6 +733,27 @@ mod tests {
         }));
         assert_eq!(g.vertices.len(), 4 + 40);
         assert_eq!(g.edges.len(), 4 + 20);
+    }
+
+    #[test]
+    fn a_chain_finer_than_the_resolution_is_thinned() {
+        // A spiral's inner end: a crease drawn as pieces 0.05 apart over
+        // its first unit (finer than the 0.71 units of 0.05 % of the
+        // diameter), then pieces 1 to 8 long out to x = 530 and one long
+        // piece. The chain is not one sloppy corner, so no isolated
+        // cluster takes it; at the resolution it is merged greedily into
+        // 2 points, the rest kept (all 29 were kept before). A valley
+        // from the boundary meets the chain's start, so no end dangles.
+        let fine = (0..=20).map(|k| [500.0 + 0.05 * k as f64, 500.0 + 0.02 * (k % 2) as f64]);
+        let coarse = [502.0, 504.0, 507.0, 511.0, 516.0, 522.0, 530.0, 900.0].map(|x| [x, 500.0]);
+        let points: Vec<[f64; 2]> = fine.chain(coarse).collect();
+        let chain = points
+            .windows(2)
+            .map(|w| (Assignment::Mountain, [w[0][0], w[0][1], w[1][0], w[1][1]]));
+        // A valley from the boundary ends where the chain starts.
+        let g = in_square(chain.chain([(Assignment::Valley, [500.0, 0.0, 500.0, 500.0])]));
+        assert_eq!(g.vertices.len(), 5 + 10);
+        assert_eq!(g.edges.len(), 5 + 1 + 9);
     }
 
     #[test]
