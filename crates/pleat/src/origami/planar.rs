@@ -3,7 +3,8 @@
 //! clean graph where edges meet only at shared vertices.
 //!
 //! Steps: merge points closer than the tolerance (relative to the pattern's
-//! diameter) where they form an isolated cluster, split every segment at the
+//! diameter) where they form an isolated cluster, and chains of points
+//! finer than [`RESOLUTION`] greedily, split every segment at the
 //! points of other segments that lie on it (T-junctions, overlaps) and at
 //! proper crossings, drop zero-length pieces, and keep one edge per vertex
 //! pair, choosing between overlapping edges by
