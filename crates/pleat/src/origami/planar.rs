@@ -156,10 +156,10 @@ const LOCAL_FRACTION: f64 = 0.25;
 /// the tolerance of that point and closer together than to any other
 /// point. A group that is not (a chain of features finer than the
 /// tolerance, not one sloppy corner) is clustered again at half the
-/// tolerance, down to [`RESOLUTION`], where it is merged greedily. After merging, a point lies
-/// on an edge, or a crossing snaps onto it, only within [`LOCAL_FRACTION`]
-/// of its local feature size (and of the edge's length), capped at the
-/// tolerance.
+/// tolerance, down to [`RESOLUTION`], where it is merged greedily. After
+/// merging, a point lies on an edge, or a crossing snaps onto it, only
+/// within [`LOCAL_FRACTION`] of its local feature size (and of the edge's
+/// length), capped at the tolerance.
 struct VertexSnap {
     tolerance: f64,
     points: Vec<DVec2>,
@@ -293,16 +293,23 @@ impl Clustering<'_> {
 }
 
 /// `group` (ascending) in clusters no wider than `radius`: each point joins
-/// the first cluster whose first point is within `radius`, else starts one.
+/// the first cluster whose first point is within `radius`, else starts one
+/// (first points found through a grid, so a long chain costs O(n)).
 fn greedy_clusters(points: &[DVec2], group: Vec<usize>, radius: f64) -> Vec<Vec<usize>> {
+    let mut firsts = Grid::new(radius);
     let mut clusters: Vec<Vec<usize>> = Vec::new();
     for i in group {
-        match clusters
-            .iter_mut()
-            .find(|c| points[c[0]].distance(points[i]) <= radius)
-        {
-            Some(cluster) => cluster.push(i),
-            None => clusters.push(vec![i]),
+        let p = points[i];
+        let joined = firsts
+            .near(p)
+            .filter(|&k| points[clusters[k][0]].distance(p) <= radius)
+            .min();
+        match joined {
+            Some(k) => clusters[k].push(i),
+            None => {
+                firsts.insert(p, clusters.len());
+                clusters.push(vec![i]);
+            }
         }
     }
     clusters

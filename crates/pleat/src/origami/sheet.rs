@@ -7,9 +7,10 @@
 //! the even-odd rule (crossing a boundary edge goes from outside to inside or
 //! back, so holes work); a pattern without boundary edges is the region its
 //! lines enclose where that is all of their convex hull but for slivers,
-//! else the convex hull. Cut edges, and boundary edges with paper on both sides (slits), split
-//! the sheet: the vertices along them are duplicated so the sides separate.
-//! Every other edge shared by two triangles is a [`Hinge`].
+//! else the convex hull. Cut edges, and boundary edges with paper on both
+//! sides (slits), split the sheet: the vertices along them are duplicated
+//! so the sides separate. Every other edge shared by two triangles is a
+//! [`Hinge`].
 
 use std::collections::{HashMap, HashSet};
 
@@ -401,9 +402,7 @@ impl Region {
             .collect();
         Region { inside }
     }
-}
 
-impl Region {
     /// The paper of a pattern drawn without boundary edges: the region its
     /// lines enclose (faces reached from outside only across a pattern
     /// edge), as Origami Simulator's import takes it, where that is all of
