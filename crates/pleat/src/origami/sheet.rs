@@ -248,12 +248,26 @@ fn triangulate(
 ) -> Result<Cdt, TriangulationError> {
     let mut cdt = Cdt::new();
     for (i, &p) in graph.vertices.iter().enumerate() {
-        cdt.insert(frame.normalise(p)).map_err(|e| {
+        let handle = cdt.insert(frame.normalise(p)).map_err(|e| {
             Other(PatternError::new(
                 format!("vertex {i}"),
                 format!("cannot be triangulated: {e}"),
             ))
         })?;
+        // Points closer than the unit box's rounding (1e-12 of the
+        // pattern's size) land on one point, which the triangulation
+        // keeps once: the constraints would then name vertices it lacks.
+        if handle.index() != i {
+            let j = handle.index();
+            return Err(Other(PatternError::new(
+                format!("point ({}, {})", p.x, p.y),
+                format!(
+                    "lands on the point ({}, {}) once the pattern is scaled to a unit box: \
+                     its coordinates span too wide a range for its finest features",
+                    graph.vertices[j].x, graph.vertices[j].y
+                ),
+            )));
+        }
     }
     for (i, edge) in graph.edges.iter().enumerate() {
         let [a, b] = edge.v.map(FixedVertexHandle::from_index);
@@ -832,6 +846,17 @@ mod tests {
         assert_eq!(s.triangles.len(), 3);
         assert_eq!(s.crease_count(), 1);
         assert_eq!(euler(&s), 1);
+    }
+
+    #[test]
+    fn features_finer_than_the_rounding_of_a_huge_pattern_are_an_error() {
+        // A 100-unit square and a crease 1e16 units long: the square's
+        // corners land on one point of the unit box (this panicked inside
+        // the triangulation, found by fuzzing).
+        let mut segments = square(100.0);
+        segments.push((Assignment::Mountain, [50.0, 50.0, 1e16, 50.0], None));
+        let error = sheet(&segments).unwrap_err().to_string();
+        assert!(error.contains("lands on the point (0, 0)"), "{error}");
     }
 
     #[test]
