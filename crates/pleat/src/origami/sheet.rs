@@ -849,6 +849,32 @@ mod tests {
     }
 
     #[test]
+    fn without_boundary_lines_that_enclose_only_part_take_the_hull() {
+        // Two diagonals of a square and a small closed triangle of
+        // mountains at its centre: the lines enclose 1.5 % of the hull, so
+        // the paper is the hull (the whole square, area 1 once scaled).
+        let m = Assignment::Mountain;
+        let s = sheet(&[
+            (Assignment::Valley, [0.0, 0.0, 2.0, 2.0], None),
+            (Assignment::Valley, [0.0, 2.0, 2.0, 0.0], None),
+            (m, [0.8, 0.9, 1.2, 0.9], None),
+            (m, [1.2, 0.9, 1.0, 1.2], None),
+            (m, [1.0, 1.2, 0.8, 0.9], None),
+        ])
+        .unwrap();
+        let area: f32 = s
+            .triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|i| s.positions[i as usize]);
+                0.5 * (b - a).cross(c - a).length()
+            })
+            .sum();
+        assert!((area - 1.0).abs() < 1e-5, "area {area}");
+        assert_eq!(euler(&s), 1);
+    }
+
+    #[test]
     fn features_finer_than_the_rounding_of_a_huge_pattern_are_an_error() {
         // A 100-unit square and a crease 1e16 units long: the square's
         // corners land on one point of the unit box (this panicked inside
