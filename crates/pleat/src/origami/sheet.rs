@@ -379,18 +379,7 @@ impl Region {
         if !has_boundary {
             return Region::without_boundary(cdt, labels);
         }
-        // Faces joined by non-boundary edges form components.
-        let mut sets = DisjointSets::new(faces);
-        let mut walls = Vec::new();
-        for edge in cdt.undirected_edges() {
-            let d = edge.as_directed();
-            let (left, right) = (d.face().fix().index(), d.rev().face().fix().index());
-            if is_boundary(edge.fix()) {
-                walls.push((left, right));
-            } else {
-                sets.union(left, right);
-            }
-        }
+        let (mut sets, walls) = components(cdt, is_boundary);
         // Breadth-first over components, toggling at each boundary.
         let mut neighbours: HashMap<usize, Vec<usize>> = HashMap::new();
         for (a, b) in walls {
@@ -426,32 +415,44 @@ impl Region {
     /// the outline creases hinges of paper a hair wide); else the convex
     /// hull, as where the lines enclose nothing.
     fn without_boundary(cdt: &Cdt, labels: &[Option<usize>]) -> Region {
-        let faces = cdt.num_all_faces();
-        let mut sets = DisjointSets::new(faces);
-        for edge in cdt.undirected_edges() {
-            if labels[edge.fix().index()].is_none() {
-                let d = edge.as_directed();
-                sets.union(d.face().fix().index(), d.rev().face().fix().index());
-            }
-        }
+        let (mut sets, _) = components(cdt, |e| labels[e.index()].is_some());
         let outside = sets.find(OUTER_FACE.index());
-        let mut inside = vec![true; faces];
+        let enclosed: Vec<bool> = (0..cdt.num_all_faces())
+            .map(|f| sets.find(f) != outside)
+            .collect();
+        let area = |keep: &dyn Fn(usize) -> bool| -> f64 {
+            cdt.inner_faces()
+                .filter(|f| keep(f.fix().index()))
+                .map(|f| f.area())
+                .sum()
+        };
+        if area(&|f| enclosed[f]) >= ENCLOSED_FRACTION * area(&|_| true) {
+            return Region { inside: enclosed };
+        }
+        let mut inside = vec![true; enclosed.len()];
         inside[OUTER_FACE.index()] = false;
-        let (mut hull_area, mut enclosed_area) = (0.0, 0.0);
-        for face in cdt.inner_faces() {
-            let area = face.area();
-            hull_area += area;
-            if sets.find(face.fix().index()) != outside {
-                enclosed_area += area;
-            }
-        }
-        if enclosed_area >= ENCLOSED_FRACTION * hull_area {
-            for (f, inside) in inside.iter_mut().enumerate() {
-                *inside = *inside && sets.find(f) != outside;
-            }
-        }
         Region { inside }
     }
+}
+
+/// The faces of `cdt` joined into components across every edge that is not
+/// a wall, and the pairs of faces on either side of each wall.
+fn components(
+    cdt: &Cdt,
+    is_wall: impl Fn(FixedUndirectedEdgeHandle) -> bool,
+) -> (DisjointSets, Vec<(usize, usize)>) {
+    let mut sets = DisjointSets::new(cdt.num_all_faces());
+    let mut walls = Vec::new();
+    for edge in cdt.undirected_edges() {
+        let d = edge.as_directed();
+        let (left, right) = (d.face().fix().index(), d.rev().face().fix().index());
+        if is_wall(edge.fix()) {
+            walls.push((left, right));
+        } else {
+            sets.union(left, right);
+        }
+    }
+    (sets, walls)
 }
 
 /// Union-find with path halving.
