@@ -24,7 +24,7 @@ use pleat::model::Model;
 use pleat::solver::jacobi::JacobiConstraints;
 use pleat::solver::parallel::ColoredConstraints;
 use pleat::solver::position_based::attachments;
-use pleat::solver::xpbd::{FoldLimits, XpbdConstraints, FOLD_HOLD_SWEEPS};
+use pleat::solver::xpbd::{FoldLimits, XpbdConstraints};
 use pleat::solver::{substep_times, SolverKind, SolverSettings, StageTimes};
 use pleat::{Backend, Particles, World};
 use wgpu::util::DeviceExt;
@@ -143,11 +143,8 @@ pub struct GpuBackend {
 struct KernelBuffers {
     /// Items and lambdas of each constraint kind, in projection order.
     constraints: Vec<ConstraintBuffers>,
-    /// Sweeps of the distances' strain limits after the iterations: the
-    /// CPU's first [`pleat::solver::xpbd::STRAIN_LIMIT_SWEEPS`], not the
-    /// further ones it runs while an edge is still far beyond its limit
-    /// (each would be a dispatch per colour, every substep).
-    strain_limit_sweeps: u32,
+    /// The distances' strain limits, where an edge has one.
+    strain_limit: Option<StrainLimitBuffers>,
     hard_pins: wgpu::Buffer,
     pin_dispatch: (u32, u32),
     track_dispatch: (u32, u32),
@@ -177,6 +174,27 @@ struct SelfContactBuffers {
     cell: f32,
     /// Hash table size: a power of two, a multiple of the scan block.
     buckets: u32,
+}
+
+/// What the strain limits' sweeps need besides the distances' items.
+struct StrainLimitBuffers {
+    /// The sweeps after the iterations before the further ones: the CPU's
+    /// [`pleat::solver::xpbd::STRAIN_LIMIT_SWEEPS`].
+    sweeps: u32,
+    /// Each colour's slice of the distances, for the further sweeps.
+    colours: wgpu::Buffer,
+    /// Whether the last sweep found an edge far beyond its limit.
+    beyond: wgpu::Buffer,
+}
+
+impl StrainLimitBuffers {
+    fn new(device: &wgpu::Device, sweeps: u32, colours: &[Range]) -> Option<Self> {
+        (sweeps > 0).then(|| StrainLimitBuffers {
+            sweeps,
+            colours: storage(device, "distance colours", colours),
+            beyond: zeroed(device, "beyond the slack", 4),
+        })
+    }
 }
 
 /// Most a rest edge may stretch and still find its triangles' contacts.
@@ -283,6 +301,7 @@ impl GpuBackend {
             soft_pins,
             hinge_count,
             strain_limit_sweeps,
+            distance_colours,
             constraint_count,
             free_parts,
             fold_limits,
@@ -308,7 +327,7 @@ impl GpuBackend {
             pin_dispatch: table.push(0, hard_indices.len() as u32),
             track_dispatch: table.push(0, hinge_count),
             constraints: kinds,
-            strain_limit_sweeps,
+            strain_limit: StrainLimitBuffers::new(device, strain_limit_sweeps, &distance_colours),
             hard_pins: storage(device, "hard pins", &hard_indices),
             triangles: storage(device, "triangles", &flat_triangles),
             triangle_force: zeroed(device, "triangle forces", model.triangles.len() as u64 * 16),
@@ -465,14 +484,40 @@ struct Stages {
     pins: Option<Stage>,
     /// In projection order: hinges, distances, bending, isometric, soft attachments, tethers.
     constraints: Vec<Stage>,
-    /// The distances' strain limits alone and how many sweeps of them
-    /// follow the iterations.
-    strain_limit: Option<(Stage, u32)>,
+    /// The distances' strain limits alone.
+    strain_limit: Option<StrainLimitStages>,
     track: Option<Stage>,
     grab: wgpu::ComputePipeline,
     self_contact: Option<SelfContactStage>,
     collide: Option<Stage>,
     update_velocities: wgpu::ComputePipeline,
+}
+
+/// The strain limits' sweeps after the iterations, as the CPU runs them
+/// (`Xpbd`'s `sweep_strain_limits`): the first sweeps, the last of them
+/// noting whether an edge is beyond [`pleat::solver::xpbd::STRAIN_LIMIT_SLACK`]
+/// times its limit, then while one is, further sweeps up to
+/// [`pleat::solver::xpbd::MAX_STRAIN_LIMIT_SWEEPS`] in all. The further
+/// sweeps run in one workgroup of one dispatch, a barrier between
+/// colours, so that they stop themselves with no read back; a sheet that
+/// is not jammed pays one empty dispatch.
+/// The held limits are met in one such dispatch too.
+struct StrainLimitStages {
+    sweep: Stage,
+    measured: Stage,
+    further: Stage,
+    held: Stage,
+    sweeps: u32,
+}
+
+impl StrainLimitStages {
+    fn record(&self, pass: &mut wgpu::ComputePass<'_>) {
+        for _ in 1..self.sweeps {
+            dispatch(pass, &self.sweep, None);
+        }
+        dispatch(pass, &self.measured, None);
+        dispatch(pass, &self.further, Some(1));
+    }
 }
 
 impl Stages {
@@ -552,11 +597,20 @@ impl Stages {
             .constraints
             .iter()
             .find(|k| k.kind == ConstraintKind::Distance)
-            .filter(|_| b.strain_limit_sweeps > 0)
-            .map(|k| {
-                let buffers = [&k.items, &k.lambda, &per_substep.targets, &spare[0]];
-                let limit = stage(&kernels.distance_limit, buffers, k.dispatches.clone());
-                (limit, b.strain_limit_sweeps)
+            .zip(b.strain_limit.as_ref())
+            .map(|(k, limits)| {
+                let buffers = [&k.items, &k.lambda, &limits.colours, &limits.beyond];
+                let [sweep, measured, further, held] = kernels
+                    .distance_limit
+                    .each_ref()
+                    .map(|pipeline| stage(pipeline, buffers, k.dispatches.clone()));
+                StrainLimitStages {
+                    sweep,
+                    measured,
+                    further,
+                    held,
+                    sweeps: limits.sweeps,
+                }
             });
         Stages {
             wind: [
@@ -640,8 +694,11 @@ struct Projection {
     /// the hard pins' in the per-substep target array).
     soft_pins: Vec<pleat::constraint::Attachment>,
     hinge_count: u32,
-    /// Sweeps of the distances' strain limits after the iterations.
+    /// Sweeps of the distances' strain limits after the iterations, before
+    /// the further ones.
     strain_limit_sweeps: u32,
+    /// Each colour's slice of the distances.
+    distance_colours: Vec<Range>,
     /// Constraints projected per iteration, pins included.
     constraint_count: usize,
     /// The particles of each cloth nothing outside holds, whose projection
@@ -704,6 +761,15 @@ fn xpbd_projection(
         soft_pins,
         hinge_count: c.hinges.len() as u32,
         strain_limit_sweeps: c.strain_limit_sweeps,
+        distance_colours: c
+            .distance
+            .colors
+            .iter()
+            .map(|r| Range {
+                first: r.start as u32,
+                count: r.len() as u32,
+            })
+            .collect(),
         constraint_count: c.len() + hard_pins,
         free_parts: c.free_parts.ranges().to_vec(),
         fold_limits: c
@@ -742,6 +808,7 @@ fn jacobi_projection(
         soft_pins,
         hinge_count: 0,
         strain_limit_sweeps: 0,
+        distance_colours: Vec::new(),
         free_parts: Vec::new(),
         fold_limits: None,
     })
@@ -970,12 +1037,12 @@ impl GpuBackend {
         substeps
     }
 
-    /// [`FOLD_HOLD_SWEEPS`] sweeps of the strain limits over the positions
-    /// alone, before the frame's first prediction: the velocities stay as
-    /// they are ([`XpbdConstraints::meet_held_limits`]; sweeps past the
-    /// CPU's last find every edge within its limit and move nothing).
+    /// Sweeps of the strain limits over the positions alone, before the
+    /// frame's first prediction, until no edge is beyond its limit (up to
+    /// [`pleat::solver::xpbd::FOLD_HOLD_SWEEPS`], in one dispatch): the velocities stay as they
+    /// are ([`XpbdConstraints::meet_held_limits`]).
     fn record_held_limits(&self, encoder: &mut wgpu::CommandEncoder) {
-        let Some((limit, _)) = &self.stages.strain_limit else {
+        let Some(limits) = &self.stages.strain_limit else {
             return;
         };
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -983,9 +1050,7 @@ impl GpuBackend {
             timestamp_writes: None,
         });
         pass.set_bind_group(0, &self.stages.state, &[0]);
-        for _ in 0..FOLD_HOLD_SWEEPS {
-            dispatch(&mut pass, limit, None);
-        }
+        dispatch(&mut pass, &limits.held, Some(1));
     }
 
     /// Records one substep as four passes (stamped where the adapter has
@@ -1023,10 +1088,8 @@ impl GpuBackend {
                     dispatch(pass, stage, None);
                 }
             }
-            if let Some((limit, sweeps)) = &st.strain_limit {
-                for _ in 0..*sweeps {
-                    dispatch(pass, limit, None);
-                }
+            if let Some(limits) = &st.strain_limit {
+                limits.record(pass);
             }
             if let Some(momentum) = &self.momentum {
                 momentum.record(pass);

@@ -38,8 +38,10 @@ pub struct Kernels {
     pub gather: wgpu::ComputePipeline,
     pub resolve: wgpu::ComputePipeline,
     pub distance: wgpu::ComputePipeline,
-    /// The distances' strain limits alone (hard, no multipliers).
-    pub distance_limit: wgpu::ComputePipeline,
+    /// The distances' strain limits alone (hard, no multipliers): a sweep,
+    /// the sweep that notes whether an edge is beyond the slack, the
+    /// further sweeps in one workgroup, and the held limits met in one.
+    pub distance_limit: [wgpu::ComputePipeline; 4],
     pub bending: wgpu::ComputePipeline,
     pub isometric: wgpu::ComputePipeline,
     pub hinge: wgpu::ComputePipeline,
@@ -156,7 +158,8 @@ impl Kernels {
             gather: pipeline(shaders::WIND, "gather", &with_kernel),
             resolve: pipeline(shaders::COLLIDE, "resolve", &with_kernel),
             distance: pipeline(shaders::DISTANCE, "solve", &with_kernel),
-            distance_limit: pipeline(shaders::DISTANCE, "limit", &with_kernel),
+            distance_limit: ["limit", "limit_measured", "limit_further", "limit_held"]
+                .map(|e| pipeline(shaders::DISTANCE, e, &with_kernel)),
             bending: pipeline(shaders::BENDING, "solve", &with_kernel),
             isometric: pipeline(shaders::ISOMETRIC, "solve", &with_kernel),
             hinge: pipeline(shaders::HINGE, "solve", &with_kernel),

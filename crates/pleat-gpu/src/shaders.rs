@@ -34,7 +34,16 @@ pub const WIND: Module = module!("wind", ["triangle_forces", "gather"]);
 /// Collider contacts with friction.
 pub const COLLIDE: Module = module!("collide", ["resolve"]);
 /// Stretch, shear and skip-one distance constraints.
-pub const DISTANCE: Module = module!("distance", ["solve"]);
+pub const DISTANCE: Module = module!(
+    "distance",
+    [
+        "solve",
+        "limit",
+        "limit_measured",
+        "limit_further",
+        "limit_held"
+    ]
+);
 /// Dihedral bending.
 pub const BENDING: Module = module!("bending", ["solve"]);
 /// Isometric bending.
@@ -119,6 +128,45 @@ mod tests {
                     m.name
                 );
             }
+        }
+    }
+
+    /// A constant of `m` as naga evaluates it.
+    fn constant(m: Module, name: &str) -> f64 {
+        let module = naga::front::wgsl::parse_str(&m.source()).expect("parses");
+        let (_, c) = module
+            .constants
+            .iter()
+            .find(|(_, c)| c.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("{}.wgsl has no constant {name}", m.name));
+        match module.global_expressions[c.init] {
+            naga::Expression::Literal(naga::Literal::F32(v)) => v as f64,
+            naga::Expression::Literal(naga::Literal::U32(v)) => v as f64,
+            ref e => panic!("{name} is not a literal: {e:?}"),
+        }
+    }
+
+    /// The kernels' copies of the core's constants are the core's.
+    #[test]
+    fn constants_are_the_cores() {
+        use pleat::constraint::hinge::{MAX_TARGET_ANGLE, STIFFENING_ANGLE};
+        use pleat::solver::xpbd::{
+            FOLD_HOLD_SWEEPS, MAX_STRAIN_LIMIT_SWEEPS, STRAIN_LIMIT_SLACK, STRAIN_LIMIT_SWEEPS,
+        };
+        let pairs = [
+            (DISTANCE, "STRAIN_LIMIT_SWEEPS", STRAIN_LIMIT_SWEEPS as f64),
+            (
+                DISTANCE,
+                "MAX_STRAIN_LIMIT_SWEEPS",
+                MAX_STRAIN_LIMIT_SWEEPS as f64,
+            ),
+            (DISTANCE, "STRAIN_LIMIT_SLACK", STRAIN_LIMIT_SLACK as f64),
+            (DISTANCE, "FOLD_HOLD_SWEEPS", FOLD_HOLD_SWEEPS as f64),
+            (HINGE, "MAX_TARGET_ANGLE", MAX_TARGET_ANGLE as f64),
+            (HINGE, "STIFFENING_ANGLE", STIFFENING_ANGLE as f64),
+        ];
+        for (m, name, core) in pairs {
+            assert_eq!(constant(m, name), core, "{}.wgsl's {name}", m.name);
         }
     }
 }
