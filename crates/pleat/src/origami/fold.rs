@@ -1,10 +1,11 @@
 //! FOLD importer and writer (<https://github.com/edemaine/fold>, file_spec
-//! 1 and 1.1).
+//! 1 to 1.2).
 //!
 //! Read: `vertices_coords` (2D, or 3D in one plane: z = 0, or any other
 //! plane, as Origami Simulator saves its unfolded sheets in the x-z plane,
 //! which is turned into the x-y plane keeping its sides), `edges_vertices`,
-//! `edges_assignment` (B, M, V, F, U, C; absent means all U) and
+//! `edges_assignment` (B, M, V, F, U, C, and J, a join, read as an
+//! auxiliary line that splits a face but never folds; absent means all U) and
 //! `edges_foldAngle` (degrees; the sign is taken from the assignment for M
 //! and V, `null` means none). When `edges_vertices` is absent the edges are
 //! taken from `faces_vertices` (an edge used by one face is a boundary, the
@@ -254,9 +255,11 @@ fn assignment(value: &Value, path: &str) -> Result<Assignment, PatternError> {
         "F" | "f" => Ok(Assignment::Flat),
         "U" | "u" => Ok(Assignment::Unassigned),
         "C" | "c" => Ok(Assignment::Cut),
+        // FOLD 1.2's join: the faces on both sides are one face.
+        "J" | "j" => Ok(Assignment::Auxiliary),
         other => Err(PatternError::new(
             path,
-            format!("unknown assignment '{other}' (expected B, M, V, F, U or C)"),
+            format!("unknown assignment '{other}' (expected B, M, V, F, U, C or J)"),
         )),
     }
 }
@@ -392,6 +395,13 @@ mod tests {
     }
 
     #[test]
+    fn a_join_is_an_auxiliary_line() {
+        let p = parse_fold(&SQUARE.replace(r#""B","M"]"#, r#""B","J"]"#)).unwrap();
+        assert_eq!(p.edges[4].assignment, Assignment::Auxiliary);
+        assert_eq!(p.edges[4].fold_angle, Some(90.0));
+    }
+
+    #[test]
     fn absent_assignment_means_unassigned() {
         let p =
             parse_fold(r#"{"vertices_coords":[[0,0],[1,0]],"edges_vertices":[[0,1]]}"#).unwrap();
@@ -440,7 +450,7 @@ mod tests {
             error(
                 r#"{"vertices_coords":[[0,0],[1,0]],"edges_vertices":[[0,1]],"edges_assignment":["X"]}"#
             ),
-            "edges_assignment[0]: unknown assignment 'X' (expected B, M, V, F, U or C)"
+            "edges_assignment[0]: unknown assignment 'X' (expected B, M, V, F, U, C or J)"
         );
         assert_eq!(
             error(
