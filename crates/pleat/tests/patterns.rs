@@ -348,7 +348,14 @@ fn malformed_fold_files_are_refused_with_json_path_and_reason() {
                 "folded state",
                 r#"{"vertices_coords": [[0,0,0],[1,0,0],[0,1,0],[1,1,0.5]], "edges_vertices": [[0,1]]}"#,
                 "vertices_coords[1]",
-                "a folded state (3D vertices_coords); only flat crease patterns",
+                "a folded state (3D vertices_coords) with no faces_vertices to unfold it by",
+            ),
+            (
+                "folded state that cannot lie flat",
+                r#"{"vertices_coords": [[0,0,1],[1,1,0],[-1,1,0],[-1,-1,0],[1,-1,0]],
+                    "faces_vertices": [[0,1,2],[0,2,3],[0,3,4],[0,4,1]]}"#,
+                "vertices_coords[0]",
+                "the faces around it hold 282.1 degrees of paper, not 360",
             ),
             (
                 "no edges",

@@ -3,7 +3,10 @@
 //!
 //! Read: `vertices_coords` (2D, or 3D in one plane: z = 0, or any other
 //! plane, as Origami Simulator saves its unfolded sheets in the x-z plane,
-//! which is turned into the x-y plane keeping its sides), `edges_vertices`,
+//! which is turned into the x-y plane keeping its sides; a folded state,
+//! 3D or a flat `foldedForm`, is unfolded through its `faces_vertices` into
+//! the crease pattern it folds from, each crease's target its fold angle
+//! there: [`super::unfold`]), `edges_vertices`,
 //! `edges_assignment` (B, M, V, F, U, C, and J, a join, read as an
 //! auxiliary line that splits a face but never folds; absent means all U) and
 //! `edges_foldAngle` (degrees; the sign is taken from the assignment for M
@@ -11,12 +14,13 @@
 //! taken from `faces_vertices` (an edge used by one face is a boundary, the
 //! others unassigned). Every other key is ignored. Errors name the JSON path.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use glam::{DVec2, DVec3};
 use serde_json::{Map, Value};
 
 use super::pattern::{Assignment, CreasePattern, PatternEdge, PatternError};
+use super::unfold::{unfold, Dihedral};
 
 /// Largest distance of a vertex from the plane of the pattern, relative to
 /// the pattern size (coordinates written from single precision are good
@@ -32,12 +36,120 @@ pub fn parse_fold(text: &str) -> Result<CreasePattern, PatternError> {
             format!("expected a JSON object, found {}", kind(&root)),
         ));
     };
-    let vertices = vertices_coords(&root)?;
-    let edges = match root.get("edges_vertices") {
-        Some(value) => edges_from_edges_vertices(&root, value, vertices.len())?,
-        None => edges_from_faces(&root, vertices.len())?,
+    let points = vertices_coords(&root)?;
+    let flat = flatten(&points);
+    let edges_vertices = root.get("edges_vertices");
+    // Faces are read where they give the edges or unfold a folded state.
+    let faces = if edges_vertices.is_none() || flat.is_err() || is_folded_form(&root) {
+        faces_vertices(&root, points.len())?
+    } else {
+        None
     };
-    Ok(CreasePattern { vertices, edges })
+    let edges = match edges_vertices {
+        Some(value) => edges_from_edges_vertices(&root, value, points.len())?,
+        None => edges_from_faces(faces.as_deref())?,
+    };
+    match (flat, faces) {
+        // A crease pattern labelled as a folded form (some editors write
+        // one so) reads as it is; a flat-folded state is unfolded.
+        (Ok(vertices), Some(faces)) if is_folded_form(&root) => {
+            match folded_form(&points, &faces, edges.clone()) {
+                Ok((pattern, true)) => Ok(pattern),
+                _ => Ok(CreasePattern { vertices, edges }),
+            }
+        }
+        (Ok(vertices), _) => Ok(CreasePattern { vertices, edges }),
+        (Err(_), Some(faces)) => folded_form(&points, &faces, edges).map(|(pattern, _)| pattern),
+        (Err(off_plane), None) => Err(off_plane),
+    }
+}
+
+/// Whether the file calls its frame a folded form.
+fn is_folded_form(root: &Map<String, Value>) -> bool {
+    root.get("frame_classes")
+        .and_then(Value::as_array)
+        .is_some_and(|classes| classes.iter().any(|c| c == "foldedForm"))
+}
+
+/// The crease pattern a folded state unfolds from, each crease's target
+/// its fold angle in the folded state (where the file gives none), and
+/// whether any edge is folded.
+fn folded_form(
+    points: &[DVec3],
+    faces: &[Vec<usize>],
+    mut edges: Vec<PatternEdge>,
+) -> Result<(CreasePattern, bool), PatternError> {
+    let walls: HashSet<[usize; 2]> = edges
+        .iter()
+        .filter(|e| matches!(e.assignment, Assignment::Boundary | Assignment::Cut))
+        .map(|e| sorted(e.v))
+        .collect();
+    let mut unfolded = unfold(points, faces, |key| !walls.contains(&key))?;
+    if seen_from_the_back(&edges, &unfolded.dihedrals) {
+        unfolded.turn_over();
+    }
+    for edge in &mut edges {
+        if edge.fold_angle.is_none() {
+            if let Some(&d) = unfolded.dihedrals.get(&sorted(edge.v)) {
+                take_fold_angle(edge, d);
+            }
+        }
+    }
+    let folded = !unfolded.is_flat();
+    Ok((
+        CreasePattern {
+            vertices: unfolded.vertices,
+            edges,
+        },
+        folded,
+    ))
+}
+
+/// Whether most mountains and valleys fold the other way in the folded
+/// state: the file's front is the side the unfolding took for the back.
+fn seen_from_the_back(edges: &[PatternEdge], dihedrals: &HashMap<[usize; 2], Dihedral>) -> bool {
+    let (mut same, mut opposite) = (0, 0);
+    for edge in edges {
+        let sign = edge.assignment.fold_sign();
+        if let (Some(sign), Some(Dihedral::Folded(angle))) = (sign, dihedrals.get(&sorted(edge.v)))
+        {
+            if sign * angle > 0.0 {
+                same += 1;
+            } else {
+                opposite += 1;
+            }
+        }
+    }
+    opposite > same
+}
+
+fn sorted([a, b]: [usize; 2]) -> [usize; 2] {
+    [a.min(b), a.max(b)]
+}
+
+/// A crease's target from its fold angle in a folded state: mountains and
+/// valleys keep their direction and take the angle; unassigned edges that
+/// are folded become mountains or valleys. Flat folds keep the full fold
+/// (the folded state cannot tell their direction), flat lines and joins
+/// stay flat.
+fn take_fold_angle(edge: &mut PatternEdge, dihedral: Dihedral) {
+    match (edge.assignment, dihedral) {
+        (Assignment::Mountain | Assignment::Valley, Dihedral::Folded(angle)) => {
+            edge.fold_angle = edge.assignment.fold_sign().map(|s| s * angle.abs());
+        }
+        (Assignment::Mountain | Assignment::Valley, Dihedral::Flat) => {
+            edge.fold_angle = Some(0.0);
+        }
+        (Assignment::Unassigned, Dihedral::Folded(angle)) => {
+            edge.assignment = if angle > 0.0 {
+                Assignment::Valley
+            } else {
+                Assignment::Mountain
+            };
+            edge.fold_angle = Some(angle);
+        }
+        _ => {}
+    }
 }
 
 fn json_syntax_error(e: serde_json::Error) -> PatternError {
@@ -72,7 +184,7 @@ fn required<'a>(root: &'a Map<String, Value>, key: &str) -> Result<&'a Value, Pa
         .ok_or_else(|| PatternError::new(key, "missing"))
 }
 
-fn vertices_coords(root: &Map<String, Value>) -> Result<Vec<DVec2>, PatternError> {
+fn vertices_coords(root: &Map<String, Value>) -> Result<Vec<DVec3>, PatternError> {
     let list = expect_array(required(root, "vertices_coords")?, "vertices_coords")?;
     let mut points = Vec::with_capacity(list.len());
     for (i, entry) in list.iter().enumerate() {
@@ -95,7 +207,7 @@ fn vertices_coords(root: &Map<String, Value>) -> Result<Vec<DVec2>, PatternError
         };
         points.push(DVec3::new(x, y, z));
     }
-    flatten(&points)
+    Ok(points)
 }
 
 /// The vertices as 2D points: `(x, y)` when every z is 0 up to round-off,
@@ -141,8 +253,8 @@ fn flatten(points: &[DVec3]) -> Result<Vec<DVec2>, PatternError> {
         return Err(PatternError::new(
             format!("vertices_coords[{worst}]"),
             format!(
-                "{distance} off the plane of the others: a folded state (3D vertices_coords); \
-                 only flat crease patterns can be imported"
+                "{distance} off the plane of the others: a folded state (3D vertices_coords) \
+                 with no faces_vertices to unfold it by"
             ),
         ));
     }
@@ -279,31 +391,44 @@ fn fold_angle(
     }))
 }
 
-/// Edges of the face cycles: shared edges unassigned, the others boundary.
-fn edges_from_faces(
+/// `faces_vertices`, if the file has it: each face's cycle of vertex
+/// indices.
+fn faces_vertices(
     root: &Map<String, Value>,
     vertex_count: usize,
-) -> Result<Vec<PatternEdge>, PatternError> {
+) -> Result<Option<Vec<Vec<usize>>>, PatternError> {
     let Some(value) = root.get("faces_vertices") else {
+        return Ok(None);
+    };
+    let faces = expect_array(value, "faces_vertices")?;
+    faces
+        .iter()
+        .enumerate()
+        .map(|(f, face)| {
+            let path = format!("faces_vertices[{f}]");
+            expect_array(face, &path)?
+                .iter()
+                .enumerate()
+                .map(|(k, v)| vertex_index(v, &format!("{path}[{k}]"), vertex_count))
+                .collect()
+        })
+        .collect::<Result<Vec<_>, _>>()
+        .map(Some)
+}
+
+/// Edges of the face cycles: shared edges unassigned, the others boundary.
+fn edges_from_faces(faces: Option<&[Vec<usize>]>) -> Result<Vec<PatternEdge>, PatternError> {
+    let Some(faces) = faces else {
         return Err(PatternError::new(
             "edges_vertices",
             "missing (and no faces_vertices to take the edges from)",
         ));
     };
-    let faces = expect_array(value, "faces_vertices")?;
     let mut uses: HashMap<[usize; 2], usize> = HashMap::new();
     let mut order = Vec::new();
-    for (f, face) in faces.iter().enumerate() {
-        let path = format!("faces_vertices[{f}]");
-        let cycle = expect_array(face, &path)?;
-        let indices = cycle
-            .iter()
-            .enumerate()
-            .map(|(k, v)| vertex_index(v, &format!("{path}[{k}]"), vertex_count))
-            .collect::<Result<Vec<_>, _>>()?;
-        for (k, &a) in indices.iter().enumerate() {
-            let b = indices[(k + 1) % indices.len()];
-            let key = [a.min(b), a.max(b)];
+    for face in faces {
+        for (k, &a) in face.iter().enumerate() {
+            let key = sorted([a, face[(k + 1) % face.len()]]);
             let count = uses.entry(key).or_insert(0);
             if *count == 0 {
                 order.push(key);
@@ -463,12 +588,129 @@ mod tests {
                 r#"{"vertices_coords":[[0,0,0],[1,0,0],[0,1,0],[0,0,0.5]],"edges_vertices":[[0,1]]}"#
             ),
             "vertices_coords[3]: 0.5 off the plane of the others: a folded state \
-             (3D vertices_coords); only flat crease patterns can be imported"
+             (3D vertices_coords) with no faces_vertices to unfold it by"
         );
         assert_eq!(
             error(r#"{"vertices_coords":{},"edges_vertices":[]}"#),
             "vertices_coords: expected an array, found an object"
         );
+    }
+
+    /// A unit square folded along its diagonal from vertex 1 to vertex 3 by
+    /// `degrees` toward the front of face [0, 1, 3] (+z, counter-clockwise
+    /// from there), as a FOLD folded form with `extra` keys.
+    fn folded_square(degrees: f64, extra: &str) -> String {
+        let (s, c) = degrees.to_radians().sin_cos();
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        let lifted = [0.5 + 0.5 * c, 0.5 + 0.5 * c, h * s];
+        format!(
+            r#"{{"frame_classes":["foldedForm"],
+            "vertices_coords":[[0,0,0],[1,0,0],{lifted:?},[0,1,0]],
+            "faces_vertices":[[0,1,3],[1,2,3]]{extra}}}"#
+        )
+    }
+
+    fn crease(p: &CreasePattern) -> &PatternEdge {
+        p.edges
+            .iter()
+            .find(|e| sorted(e.v) == [1, 3])
+            .expect("the diagonal")
+    }
+
+    #[test]
+    fn a_folded_state_unfolds_into_its_crease_pattern_and_angles() {
+        // Folded toward the front of the first face: a valley of its angle.
+        let p = parse_fold(&folded_square(90.0, "")).unwrap();
+        for (v, at) in [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]
+            .into_iter()
+            .enumerate()
+        {
+            let d = p.vertices[v] - p.vertices[0];
+            assert!(
+                (d.length() - DVec2::from(at).length()).abs() < 1e-9,
+                "{v}: {d}"
+            );
+        }
+        assert!((p.vertices[2].distance(p.vertices[0]) - 2f64.sqrt()).abs() < 1e-9);
+        assert_eq!(crease(&p).assignment, Assignment::Valley);
+        assert!((crease(&p).fold_angle.unwrap() - 90.0).abs() < 1e-9);
+        // Toward the back: a mountain.
+        let p = parse_fold(&folded_square(-60.0, "")).unwrap();
+        assert_eq!(crease(&p).assignment, Assignment::Mountain);
+        assert!((crease(&p).fold_angle.unwrap() + 60.0).abs() < 1e-9);
+        // Labelled a mountain, the sheet is seen from the other side.
+        let labels = r#","edges_vertices":[[0,1],[1,2],[2,3],[3,0],[1,3]],
+            "edges_assignment":["B","B","B","B","M"]"#;
+        let p = parse_fold(&folded_square(90.0, labels)).unwrap();
+        assert_eq!(crease(&p).assignment, Assignment::Mountain);
+        assert!((crease(&p).fold_angle.unwrap() + 90.0).abs() < 1e-9);
+        // The file's own angle wins; folded flat, the label says which way.
+        let angles = format!(r#"{labels},"edges_foldAngle":[0,0,0,0,45]"#);
+        assert_eq!(
+            crease(&parse_fold(&folded_square(90.0, &angles)).unwrap()).fold_angle,
+            Some(-45.0)
+        );
+        let flat = parse_fold(&folded_square(180.0, labels)).unwrap();
+        assert_eq!(crease(&flat).fold_angle, None);
+        assert_eq!(crease(&flat).assignment, Assignment::Mountain);
+    }
+
+    #[test]
+    fn a_crease_pattern_labelled_a_folded_form_reads_as_it_is() {
+        let p = parse_fold(&folded_square(0.0, "")).unwrap();
+        assert_eq!(p.vertices[2], DVec2::new(1.0, 1.0));
+        assert_eq!(crease(&p).fold_angle, None);
+        assert_eq!(crease(&p).assignment, Assignment::Unassigned);
+    }
+
+    #[test]
+    fn folded_states_that_do_not_unfold_are_errors() {
+        // A pyramid's four sides: 282 degrees of paper around its apex.
+        let pyramid = r#"{"vertices_coords":[[0,0,1],[1,1,0],[-1,1,0],[-1,-1,0],[1,-1,0]],
+            "faces_vertices":[[0,1,2],[0,2,3],[0,3,4],[0,4,1]]}"#;
+        assert_eq!(
+            error(pyramid),
+            "vertices_coords[0]: the faces around it hold 282.1 degrees of paper, not 360: \
+             the folded form does not lie flat there, so it cannot be unfolded"
+        );
+        // Five quarter turns of a spiral ramp about its centre: 390 degrees
+        // of paper there (its corners a little under 90 degrees, lifted).
+        let ramp: Vec<String> = (0..6)
+            .map(|k| {
+                let (s, c) = (k as f64 * std::f64::consts::FRAC_PI_2).sin_cos();
+                format!("[{c},{s},{}]", 0.2 * k as f64)
+            })
+            .collect();
+        let spiral = format!(
+            r#"{{"vertices_coords":[[0,0,0],{}],
+            "faces_vertices":[[0,1,2],[0,2,3],[0,3,4],[0,4,5],[0,5,6]]}}"#,
+            ramp.join(",")
+        );
+        assert!(
+            error(&spiral).starts_with(
+                "vertices_coords[0]: the faces around it hold 389.8 degrees of paper, more than 360"
+            ),
+            "{}",
+            error(&spiral)
+        );
+        let bent = r#"{"vertices_coords":[[0,0,0],[1,0,0],[1,1,0.5],[0,1,0]],
+            "faces_vertices":[[0,1,2,3]]}"#;
+        assert!(error(bent).starts_with("faces_vertices[0]: not flat: vertex "));
+        let fan = r#"{"vertices_coords":[[0,0,0],[1,0,0],[0,1,0],[0,0,1],[0,-1,1]],
+            "faces_vertices":[[0,1,2],[0,1,3],[0,1,4]]}"#;
+        assert_eq!(
+            error(fan),
+            "faces_vertices[2]: its edge from vertex 0 to 1 is on three faces or more"
+        );
+        let apart = r#"{"vertices_coords":[[0,0,0],[1,0,0],[0,1,0],[0,0,1],[1,0,1],[0,1,2]],
+            "faces_vertices":[[0,1,2],[3,4,5]]}"#;
+        assert!(error(apart).starts_with("faces_vertices[1]: no edge between two faces"));
+        let stray = r#"{"vertices_coords":[[0,0,0],[1,0,0],[0,1,0],[5,5,5]],
+            "faces_vertices":[[0,1,2]]}"#;
+        assert!(error(stray).starts_with("vertices_coords[3]: lies on no face"));
+        let needle = r#"{"vertices_coords":[[0,0,0],[1,0,0],[2,0,0],[0,1,0],[0,0,1]],
+            "faces_vertices":[[0,1,2],[0,3,4]]}"#;
+        assert!(error(needle).starts_with("faces_vertices[0]: a face of no area"));
     }
 
     #[test]

@@ -16,6 +16,7 @@ pub mod pattern;
 pub mod planar;
 pub mod sheet;
 pub mod svg;
+mod unfold;
 
 pub use builtin::{builtin, Kresling, MiuraOri, BUILTIN_NAMES};
 pub use cp::parse_cp;
