@@ -4,8 +4,9 @@
 //! Each face is laid in the plane by an isometry of its own shape, across
 //! the face graph from the first face: a face shares an edge with a face
 //! already laid and goes on the far side of that edge, as neighbours lie in
-//! a crease pattern. A vertex laid in two places (paper that does not lie
-//! flat around it, or layers that share a vertex) is an error. The angle
+//! a crease pattern. Paper that cannot lie flat is an error: a vertex whose
+//! faces' corners do not sum to 360 degrees (more than 360 on the rim), or
+//! one laid in two places (layers of the folded form that share it). The angle
 //! between each pair of neighbouring faces is the folded state's own fold
 //! angle, so that the sheet can fold back into the file's shape. The first
 //! face's normal (by its vertex order) is the sheet's front; where the
