@@ -20,7 +20,7 @@ use glam::{DVec2, DVec3};
 use serde_json::{Map, Value};
 
 use super::pattern::{Assignment, CreasePattern, PatternEdge, PatternError};
-use super::unfold::{unfold, Dihedral};
+use super::unfold::{edge_key, face_edges, unfold, Dihedral};
 
 /// Largest distance of a vertex from the plane of the pattern, relative to
 /// the pattern size (coordinates written from single precision are good
@@ -39,8 +39,9 @@ pub fn parse_fold(text: &str) -> Result<CreasePattern, PatternError> {
     let points = vertices_coords(&root)?;
     let flat = flatten(&points);
     let edges_vertices = root.get("edges_vertices");
+    let labelled_folded = is_folded_form(&root);
     // Faces are read where they give the edges or unfold a folded state.
-    let faces = if edges_vertices.is_none() || flat.is_err() || is_folded_form(&root) {
+    let faces = if edges_vertices.is_none() || flat.is_err() || labelled_folded {
         faces_vertices(&root, points.len())?
     } else {
         None
@@ -52,7 +53,7 @@ pub fn parse_fold(text: &str) -> Result<CreasePattern, PatternError> {
     match (flat, faces) {
         // A crease pattern labelled as a folded form (some editors write
         // one so) reads as it is; a flat-folded state is unfolded.
-        (Ok(vertices), Some(faces)) if is_folded_form(&root) => {
+        (Ok(vertices), Some(faces)) if labelled_folded => {
             match folded_form(&points, &faces, edges.clone()) {
                 Ok((pattern, true)) => Ok(pattern),
                 _ => Ok(CreasePattern { vertices, edges }),
@@ -82,7 +83,7 @@ fn folded_form(
     let walls: HashSet<[usize; 2]> = edges
         .iter()
         .filter(|e| matches!(e.assignment, Assignment::Boundary | Assignment::Cut))
-        .map(|e| sorted(e.v))
+        .map(|e| edge_key(e.v))
         .collect();
     let mut unfolded = unfold(points, faces, |key| !walls.contains(&key))?;
     if seen_from_the_back(&edges, &unfolded.dihedrals) {
@@ -90,7 +91,7 @@ fn folded_form(
     }
     for edge in &mut edges {
         if edge.fold_angle.is_none() {
-            if let Some(&d) = unfolded.dihedrals.get(&sorted(edge.v)) {
+            if let Some(&d) = unfolded.dihedrals.get(&edge_key(edge.v)) {
                 take_fold_angle(edge, d);
             }
         }
@@ -111,7 +112,8 @@ fn seen_from_the_back(edges: &[PatternEdge], dihedrals: &HashMap<[usize; 2], Dih
     let (mut same, mut opposite) = (0, 0);
     for edge in edges {
         let sign = edge.assignment.fold_sign();
-        if let (Some(sign), Some(Dihedral::Folded(angle))) = (sign, dihedrals.get(&sorted(edge.v)))
+        if let (Some(sign), Some(Dihedral::Folded(angle))) =
+            (sign, dihedrals.get(&edge_key(edge.v)))
         {
             if sign * angle > 0.0 {
                 same += 1;
@@ -121,10 +123,6 @@ fn seen_from_the_back(edges: &[PatternEdge], dihedrals: &HashMap<[usize; 2], Dih
         }
     }
     opposite > same
-}
-
-fn sorted([a, b]: [usize; 2]) -> [usize; 2] {
-    [a.min(b), a.max(b)]
 }
 
 /// A crease's target from its fold angle in a folded state: mountains and
@@ -427,8 +425,8 @@ fn edges_from_faces(faces: Option<&[Vec<usize>]>) -> Result<Vec<PatternEdge>, Pa
     let mut uses: HashMap<[usize; 2], usize> = HashMap::new();
     let mut order = Vec::new();
     for face in faces {
-        for (k, &a) in face.iter().enumerate() {
-            let key = sorted([a, face[(k + 1) % face.len()]]);
+        for (a, b) in face_edges(face) {
+            let key = edge_key([a, b]);
             let count = uses.entry(key).or_insert(0);
             if *count == 0 {
                 order.push(key);
@@ -613,7 +611,7 @@ mod tests {
     fn crease(p: &CreasePattern) -> &PatternEdge {
         p.edges
             .iter()
-            .find(|e| sorted(e.v) == [1, 3])
+            .find(|e| edge_key(e.v) == [1, 3])
             .expect("the diagonal")
     }
 

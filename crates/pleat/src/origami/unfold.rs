@@ -78,6 +78,16 @@ impl Unfolded {
     }
 }
 
+/// An edge's key: its two vertices, smaller first.
+pub(super) fn edge_key([a, b]: [usize; 2]) -> [usize; 2] {
+    [a.min(b), a.max(b)]
+}
+
+/// The edges of a face's cycle of vertices, each from a vertex to the next.
+pub(super) fn face_edges(face: &[usize]) -> impl Iterator<Item = (usize, usize)> + '_ {
+    (0..face.len()).map(|k| (face[k], face[(k + 1) % face.len()]))
+}
+
 /// A face in its own plane: centroid, unit normal (by its vertex order)
 /// and each vertex in an orthonormal frame of the plane.
 struct FaceFrame {
@@ -224,9 +234,8 @@ fn neighbours(
 ) -> Result<HashMap<[usize; 2], [usize; 2]>, PatternError> {
     let mut on_edge: HashMap<[usize; 2], Vec<usize>> = HashMap::new();
     for (f, face) in faces.iter().enumerate() {
-        for (k, &a) in face.iter().enumerate() {
-            let b = face[(k + 1) % face.len()];
-            let users = on_edge.entry([a.min(b), a.max(b)]).or_default();
+        for (a, b) in face_edges(face) {
+            let users = on_edge.entry(edge_key([a, b])).or_default();
             users.push(f);
             if users.len() > 2 {
                 return Err(at_face(
@@ -265,7 +274,7 @@ fn check_paper_around_vertices(
                 .rem_euclid(std::f64::consts::TAU);
             let inside = [previous, next]
                 .iter()
-                .all(|&w| neighbours.contains_key(&[w.min(face[k]), w.max(face[k])]));
+                .all(|&w| neighbours.contains_key(&edge_key([w, face[k]])));
             let entry = corners.entry(face[k]).or_insert((0.0, true));
             entry.0 += angle;
             entry.1 &= inside;
@@ -333,9 +342,9 @@ fn lay_out(
                         f,
                         format!(
                             "vertex {v} unfolds to two places {} apart (more than {} % of \
-                             the folded form's size): the paper around it does not lie flat \
-                             (its angles do not sum to 360 degrees), or layers of the folded \
-                             form share it",
+                             the folded form's size): its faces close on themselves around a \
+                             hole or a tube, which paper with no cut cannot unroll, or layers \
+                             of the folded form share it",
                             q.distance(p),
                             MISFIT * 100.0
                         ),
