@@ -119,7 +119,7 @@ fn live_compliance(s: &mut Session, kind: ComplianceKind, value: f64) -> Effect 
     Effect::Live
 }
 
-fn paper_stiffness(s: &Session) -> Option<pleat::origami::PaperStiffness> {
+fn paper_stiffness(s: &Session) -> Option<pleat::folding::PaperStiffness> {
     s.scene.cloths.iter().find_map(|c| match &c.mesh {
         MeshSpec::Pattern(p) => Some(p.stiffness),
         _ => None,
@@ -267,7 +267,7 @@ pub const PARAMS: &[Param] = &[
         max: 10.0,
         logarithmic: true,
         integer: false,
-        // Paper's vertices weigh pleat::origami::PAPER_VERTEX_MASS each.
+        // Paper's vertices weigh pleat::folding::PAPER_VERTEX_MASS each.
         get: |s| cloth_unless_paper(s).map(|c| c.material.density as f64),
         set: |s, v| {
             each_material(s, |m| m.density = v as f32);

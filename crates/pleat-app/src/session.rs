@@ -145,7 +145,7 @@ impl Session {
             new.x_prev.clone_from(&old.x_prev);
             new.v.clone_from(&old.v);
             sim.world.time = self.sim.world.time;
-            sim.world.grab = self.sim.world.grab;
+            sim.grab(self.sim.grabbed());
             for (new, old) in sim
                 .world
                 .colliders

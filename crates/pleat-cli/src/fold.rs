@@ -9,10 +9,10 @@ use crate::render::{PictureArgs, Pictures};
 use crate::report::Report;
 use crate::run::{finish, rayon_threads, run_frames, simulate};
 use crate::{backend_for, check_backend, with_threads};
-use pleat::origami::{
-    builtin, folded_state_fold, load_pattern, paper_model, paper_simulation_on,
-    paper_solver_settings, CreasePattern, FoldRamp, Sheet, SheetOptions, BUILTIN_NAMES,
+use pleat::folding::{
+    folded_state_fold, paper_model, paper_simulation_on, paper_solver_settings, FoldRamp,
 };
+use pleat::origami::{builtin, load_pattern, CreasePattern, Sheet, SheetOptions, BUILTIN_NAMES};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 

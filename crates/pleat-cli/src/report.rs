@@ -1,6 +1,6 @@
 //! report.json: what a run measured (DESIGN.md section 5).
 
-use pleat::origami::FoldMetrics;
+use pleat::folding::FoldMetrics;
 use pleat::scene::Scene;
 use pleat::solver::{SolverKind, StageTimes};
 use pleat::Simulation;

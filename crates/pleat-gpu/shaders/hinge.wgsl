@@ -6,13 +6,9 @@
 struct Hinge {
     v: array<u32, 4>,
     full_angle: f32,
-    // Unused here: the target comes from params.progress.
-    target_angle: f32,
     compliance: f32,
     angle: f32,
     slot: u32,
-    // Unused here: whether the fold is held comes from params.fold_held.
-    stiffen: u32,
 }
 
 @group(1) @binding(0) var<storage, read_write> items: array<Hinge>;

@@ -19,6 +19,7 @@ use bytemuck::Pod;
 use glam::Vec3;
 use pleat::collide::ColliderPose;
 use pleat::constraint::{Compliances, DistanceConstraint};
+use pleat::control::Control;
 use pleat::mesh::incidence::Incidence;
 use pleat::model::Model;
 use pleat::solver::jacobi::JacobiConstraints;
@@ -55,7 +56,7 @@ impl RangeTable {
     }
 
     fn colours<C>(&mut self, set: &ColoredConstraints<C>) -> Vec<(u32, u32)> {
-        set.colors
+        set.colors()
             .iter()
             .filter(|r| !r.is_empty())
             .map(|r| self.push(r.start as u32, r.len() as u32))
@@ -130,9 +131,6 @@ pub struct GpuBackend {
     frame_data: FrameData,
     hard_pins: Vec<pleat::constraint::Attachment>,
     soft_pins: Vec<pleat::constraint::Attachment>,
-    progress: f32,
-    /// Whether the fold progress is held (driven creases stiffen).
-    fold_held: bool,
     /// The distance constraints as the items buffer holds them, and their
     /// strain limits for a held fold and a moving one (paper's give while
     /// it moves); `None` where the two are the same.
@@ -423,8 +421,6 @@ impl GpuBackend {
             per_substep,
             hard_pins,
             soft_pins,
-            progress: 0.0,
-            fold_held: false,
             fold_limits,
         };
         Ok((backend, notes))
@@ -724,28 +720,28 @@ fn xpbd_projection(
             table,
             (ConstraintKind::Hinge, "hinges"),
             &c.hinges,
-            &c.hinges.items,
+            c.hinges.items(),
         )?,
         xpbd_kind(
             context,
             table,
             (ConstraintKind::Distance, "distance constraints"),
             &c.distance,
-            &c.distance.items,
+            c.distance.items(),
         )?,
         xpbd_kind(
             context,
             table,
             (ConstraintKind::Bending, "bending"),
             &c.bending,
-            &c.bending.items,
+            c.bending.items(),
         )?,
         xpbd_kind(
             context,
             table,
             (ConstraintKind::Isometric, "isometric bending"),
             &c.isometric,
-            &c.isometric.items,
+            c.isometric.items(),
         )?,
         soft_kind,
         xpbd_kind(
@@ -753,7 +749,7 @@ fn xpbd_projection(
             table,
             (ConstraintKind::Tether, "tethers"),
             &c.tethers,
-            &c.tethers.items,
+            c.tethers.items(),
         )?,
     ];
     Ok(Projection {
@@ -763,7 +759,7 @@ fn xpbd_projection(
         strain_limit_sweeps: c.strain_limit_sweeps,
         distance_colours: c
             .distance
-            .colors
+            .colors()
             .iter()
             .map(|r| Range {
                 first: r.start as u32,
@@ -775,7 +771,7 @@ fn xpbd_projection(
         fold_limits: c
             .fold_limits
             .differ()
-            .then(|| (c.fold_limits.clone(), c.distance.items.clone())),
+            .then(|| (c.fold_limits.clone(), c.distance.items().to_vec())),
     })
 }
 
@@ -823,7 +819,7 @@ fn soft_attachments(
     hard_pins: usize,
 ) -> Result<(ConstraintBuffers, Vec<pleat::constraint::Attachment>), GpuError> {
     let gpu: Vec<Attachment> = set
-        .items
+        .items()
         .iter()
         .enumerate()
         .map(|(k, a)| Attachment {
@@ -840,7 +836,7 @@ fn soft_attachments(
         set,
         &gpu,
     )?;
-    Ok((kind, set.items.clone()))
+    Ok((kind, set.items().to_vec()))
 }
 
 /// One XPBD constraint kind on the GPU: its items as the kernel reads
@@ -984,8 +980,9 @@ impl GpuBackend {
         &mut self,
         world: &World,
         (settings, table): (&SolverSettings, &Compliances),
-        frame_dt: f32,
+        control: &Control,
     ) -> u32 {
+        let frame_dt = control.frame_dt;
         let substeps = settings.substeps.max(1);
         self.reserve(substeps);
         let FrameData {
@@ -1001,13 +998,7 @@ impl GpuBackend {
         targets.clear();
         poses.clear();
         for (s, (t, dt)) in substep_times(world.time, frame_dt, substeps).enumerate() {
-            let p = Params::at(
-                world,
-                settings,
-                &self.counts,
-                (self.progress, self.fold_held),
-                (s as u32, t, dt),
-            );
+            let p = Params::at(world, settings, &self.counts, control, (s as u32, t, dt));
             let at = s * UNIFORM_STRIDE as usize;
             params[at..at + size_of::<Params>()].copy_from_slice(bytemuck::bytes_of(&p));
             for a in self.hard_pins.iter_mut().chain(self.soft_pins.iter_mut()) {
@@ -1055,11 +1046,35 @@ impl GpuBackend {
 
     /// Records one substep as four passes (stamped where the adapter has
     /// timestamps): prediction, constraints, self-contacts, collisions.
+    /// Gives paper's strain limits those of a fold that is `held` or
+    /// moves, writing the distance constraints again where they change
+    /// ([`FoldLimits::apply`]).
+    fn hold_fold(&mut self, held: bool) {
+        let Some((limits, distances)) = &mut self.fold_limits else {
+            return;
+        };
+        let Some(new) = limits.apply(held) else {
+            return;
+        };
+        for (d, &limit) in distances.iter_mut().zip(new) {
+            d.max_stretch = limit;
+        }
+        let buffer = self
+            .buffers
+            .constraints
+            .iter()
+            .find(|c| c.kind == ConstraintKind::Distance);
+        if let Some(buffer) = buffer {
+            let bytes = bytemuck::cast_slice(distances.as_slice());
+            self.context.queue.write_buffer(&buffer.items, 0, bytes);
+        }
+    }
+
     fn record_substep(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         s: u32,
-        world: &World,
+        (world, control): (&World, &Control),
         iterations: u32,
     ) {
         let st = &self.stages;
@@ -1097,7 +1112,7 @@ impl GpuBackend {
             if let Some(track) = &st.track {
                 dispatch(pass, track, None);
             }
-            if world.grab.is_some() {
+            if control.grab.is_some() {
                 pass.set_pipeline(&st.grab);
                 pass.dispatch_workgroups(1, 1, 1);
             }
@@ -1231,13 +1246,15 @@ impl Backend for GpuBackend {
         world: &mut World,
         settings: &SolverSettings,
         compliances: &Compliances,
-        frame_dt: f32,
+        control: &Control,
         stages: &mut StageTimes,
     ) {
         if let Some(t) = &mut self.timestamps {
             t.collect(stages);
         }
-        let substeps = self.write_frame(world, (settings, compliances), frame_dt);
+        self.hold_fold(control.fold.held);
+        let frame_dt = control.frame_dt;
+        let substeps = self.write_frame(world, (settings, compliances), control);
         if let Some(t) = &mut self.timestamps {
             t.begin_frame(&self.context.device, substeps);
         }
@@ -1258,7 +1275,7 @@ impl Backend for GpuBackend {
             for lambda in &self.lambdas {
                 encoder.clear_buffer(lambda, 0, None);
             }
-            self.record_substep(&mut encoder, s, world, settings.iterations);
+            self.record_substep(&mut encoder, s, (world, control), settings.iterations);
         }
         let last = (substeps - 1) * UNIFORM_STRIDE as u32;
         self.health.record(
@@ -1276,29 +1293,6 @@ impl Backend for GpuBackend {
         }
         // Frees the resources of finished frames without waiting.
         let _ = self.context.device.poll(wgpu::PollType::Poll);
-    }
-
-    fn set_fold_progress(&mut self, c: f32) {
-        self.progress = c;
-    }
-
-    fn set_fold_held(&mut self, held: bool) {
-        self.fold_held = held;
-        let Some((limits, distances)) = &mut self.fold_limits else {
-            return;
-        };
-        if !limits.apply(held, distances) {
-            return;
-        }
-        let buffer = self
-            .buffers
-            .constraints
-            .iter()
-            .find(|c| c.kind == ConstraintKind::Distance);
-        if let Some(buffer) = buffer {
-            let bytes = bytemuck::cast_slice(distances.as_slice());
-            self.context.queue.write_buffer(&buffer.items, 0, bytes);
-        }
     }
 
     fn finish(&mut self, stages: &mut StageTimes) {

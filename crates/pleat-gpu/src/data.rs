@@ -7,6 +7,7 @@ use crate::GpuError;
 use bytemuck::{Pod, Zeroable};
 use glam::{Affine3A, Vec3};
 use pleat::collide::{Collider, ColliderPose, SdfGrid, Shape};
+use pleat::control::Control;
 use pleat::solver::SolverSettings;
 use pleat::World;
 
@@ -67,11 +68,11 @@ impl Params {
         world: &World,
         settings: &SolverSettings,
         counts: &Counts,
-        (progress, fold_held): (f32, bool),
+        control: &Control,
         (substep, t, dt): (u32, f32, f32),
     ) -> Self {
         let wind = world.wind.unwrap_or_default();
-        let grab = world.grab;
+        let grab = control.grab;
         Params {
             gravity: world.gravity.to_array(),
             dt,
@@ -79,7 +80,7 @@ impl Params {
             inv_dt2: 1.0 / (dt * dt),
             t,
             keep: (1.0 - settings.damping * dt).max(0.0),
-            progress,
+            progress: control.fold.progress,
             substep,
             particle_count: counts.particles,
             triangle_count: counts.triangles,
@@ -101,7 +102,7 @@ impl Params {
             contact_buckets: counts.contact_buckets,
             contact_static: settings.self_collision.friction.static_coefficient,
             contact_kinetic: settings.self_collision.friction.kinetic_coefficient,
-            fold_held: fold_held as u32,
+            fold_held: control.fold.held as u32,
             opaque_zero: 0,
             pad: [0; 4],
         }

@@ -7,11 +7,10 @@ mod common;
 use common::*;
 use glam::Vec3;
 use pleat::constraint::bending::dihedral_angle;
-use pleat::constraint::{ComplianceKind, Compliances, Grab};
-use pleat::origami::{
-    load_pattern, paper_model, paper_simulation_on, paper_solver_settings, FoldRamp, Sheet,
-    SheetOptions,
-};
+use pleat::constraint::{ComplianceKind, Compliances, FoldDrive, Grab};
+use pleat::control::Control;
+use pleat::folding::{paper_model, paper_simulation_on, paper_solver_settings, FoldRamp};
+use pleat::origami::{load_pattern, Sheet, SheetOptions};
 use pleat::stability::{mechanical_energy, paper_edges, Instability};
 use pleat::{Backend, Simulation};
 use pleat_gpu::GpuBackend;
@@ -81,12 +80,8 @@ fn miura_ori_folds_to_half_like_the_cpu() {
              "fold": { "progress": 0.5, "frames_to_fold": 40 } }"#,
     );
     let (c, g) = follows_cpu("miura-ori", &scene, 60);
-    let cloth = &c.model.cloths[0];
-    let hinges = cloth
-        .paper
-        .as_ref()
-        .unwrap()
-        .hinge_constraints(cloth, 0, &c.model.rest);
+    let constraints = pleat::solver::xpbd::XpbdConstraints::new(&c.model);
+    let hinges = constraints.hinges.items();
     let angle = |sim: &Simulation, v: [u32; 4]| {
         dihedral_angle(v.map(|i| sim.particles.x[i as usize]))
             .unwrap()
@@ -339,7 +334,13 @@ fn the_health_reduction_measures_what_the_core_does() {
         *v = Vec3::new(0.0, 0.0, (i % 7) as f32 * 0.1);
     }
     backend.upload(&particles);
-    backend.set_fold_progress(0.8);
+    let control = Control {
+        fold: FoldDrive {
+            progress: 0.8,
+            held: false,
+        },
+        ..Control::frame(scene.frame_dt())
+    };
     let mut stages = pleat::solver::StageTimes::default();
     let mut health = None;
     let compliances = Compliances::of(&model);
@@ -349,7 +350,7 @@ fn the_health_reduction_measures_what_the_core_does() {
             &mut world,
             &scene.solver,
             &compliances,
-            scene.frame_dt(),
+            &control,
             &mut stages,
         );
         world.time += scene.frame_dt();

@@ -4,7 +4,7 @@
 //! strain and how many driven creases are folded against their assignment
 //! as it goes, with the kinetic energy `ke` and the angular momentum `L`
 //! about the centre of mass (a sheet still swinging or spinning): the probe
-//! behind the figures of docs/origami.md.
+//! behind the figures of docs/folding.md and docs/design-notes.md.
 //!
 //! ```sh
 //! cargo run --release -p pleat --example fold_probe -- FILE [C]
@@ -23,10 +23,11 @@
 use std::env;
 use std::path::Path;
 
-use pleat::origami::{
-    hinge_states, load_pattern, paper_material, paper_solver_settings, FoldMetrics, FoldRamp,
-    HingeState, PaperStiffness, Sheet, SheetOptions,
+use pleat::folding::{
+    hinge_states, paper_material, paper_solver_settings, FoldMetrics, FoldRamp, HingeState,
+    PaperStiffness,
 };
+use pleat::origami::{load_pattern, Sheet, SheetOptions};
 use pleat::{glam::Vec3, Model, Simulation, World};
 
 fn setting(name: &str, default: f32) -> f32 {

@@ -9,11 +9,13 @@
 //! event loop.
 //!
 //! Parameters a person tunes while the simulation runs (compliances,
-//! damping, substeps, gravity, wind, the grabbed particle, fold progress)
-//! reach the backend at every step, by reference: changing one needs no
-//! rebuild.
+//! damping, substeps, gravity, wind) and the frame's [`Control`] (its
+//! length, the fold's drive, the grabbed particle) reach the backend at
+//! every step, by reference: changing one needs no rebuild, and no backend
+//! keeps a copy of its own.
 
 use crate::constraint::Compliances;
+use crate::control::Control;
 use crate::model::Model;
 use crate::particles::Particles;
 use crate::solver::{self, Solver, SolverSettings, StageTimes};
@@ -44,29 +46,21 @@ pub trait Backend: MaybeSend {
     /// Number of constraints projected per iteration.
     fn constraint_count(&self) -> usize;
 
-    /// Advances the state by `frame_dt` in `world` from `world.time`, with
-    /// the current `settings` and `compliances`. A backend whose state
-    /// lives elsewhere leaves `particles` as they were: [`Backend::download`]
-    /// brings them up to date.
+    /// Advances the state by `control.frame_dt` in `world` from
+    /// `world.time`, with the current `settings` and `compliances`, driven
+    /// by `control` (the fold's progress and whether it is held, the
+    /// grabbed particle). A backend whose state lives elsewhere leaves
+    /// `particles` as they were: [`Backend::download`] brings them up to
+    /// date.
     fn step(
         &mut self,
         particles: &mut Particles,
         world: &mut World,
         settings: &SolverSettings,
         compliances: &Compliances,
-        frame_dt: f32,
+        control: &Control,
         stages: &mut StageTimes,
     );
-
-    /// Drives every origami hinge to `c` times its full fold angle.
-    fn set_fold_progress(&mut self, c: f32);
-
-    /// Whether the fold progress is held (unmoved since the last frame):
-    /// driven creases are stiffening springs while it is
-    /// ([`crate::constraint::hinge`]); while it moves, paper's strain
-    /// limits allow [`crate::solver::xpbd::MOVING_FOLD_STRAIN_SCALE`]
-    /// times their stretch.
-    fn set_fold_held(&mut self, held: bool);
 
     /// Waits until every step handed to the device has run (for timing),
     /// adding the device's per-stage times to `stages` where it measures
@@ -142,20 +136,12 @@ impl Backend for CpuBackend {
         world: &mut World,
         settings: &SolverSettings,
         compliances: &Compliances,
-        frame_dt: f32,
+        control: &Control,
         stages: &mut StageTimes,
     ) {
         self.solver.set_settings(settings);
         self.solver.set_compliances(compliances);
-        self.solver.step(particles, world, frame_dt, stages);
-    }
-
-    fn set_fold_progress(&mut self, c: f32) {
-        self.solver.set_fold_progress(c);
-    }
-
-    fn set_fold_held(&mut self, held: bool) {
-        self.solver.set_fold_held(held);
+        self.solver.step(particles, world, control, stages);
     }
 
     fn finish(&mut self, _stages: &mut StageTimes) {}

@@ -25,7 +25,7 @@ pub enum BendingModel {
 #[serde(deny_unknown_fields, default)]
 pub struct Material {
     /// Surface density (kg/m^2; unused on paper, whose vertices weigh
-    /// [`crate::origami::PAPER_VERTEX_MASS`] each).
+    /// [`crate::paper::PAPER_VERTEX_MASS`] each).
     pub density: f32,
     /// Compliance of structural edges (m/N; on paper per unit of edge
     /// length, 1/N); 0 is inextensible.

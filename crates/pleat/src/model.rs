@@ -5,7 +5,7 @@
 use crate::collide::Motion;
 use crate::material::Material;
 use crate::mesh::{lumped_masses, Mesh, Topology};
-use crate::origami::Paper;
+use crate::paper::Paper;
 use glam::Vec3;
 use std::ops::Range;
 

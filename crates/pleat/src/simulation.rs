@@ -3,10 +3,11 @@
 //! instability.
 
 use crate::backend::{Backend, CpuBackend};
-use crate::constraint::{Compliances, Grab};
+use crate::constraint::{Compliances, FoldDrive, Grab};
+use crate::control::Control;
 use crate::metrics::Metrics;
 use crate::model::Model;
-use crate::origami::FoldRamp;
+use crate::paper::FoldRamp;
 use crate::particles::Particles;
 use crate::solver::{SolverSettings, StageTimes};
 use crate::stability::StabilityMonitor;
@@ -14,7 +15,7 @@ use crate::world::World;
 
 pub struct Simulation {
     pub model: Model,
-    /// Gravity, wind, colliders and the grabbed particle: read at every step.
+    /// Gravity, wind and colliders: read at every step.
     pub world: World,
     /// The state. With a backend that does not step in place (the GPU),
     /// current only after [`Simulation::sync`].
@@ -33,6 +34,8 @@ pub struct Simulation {
     /// before the first).
     stepped_progress: f32,
     frames_stepped: u32,
+    /// The particle a person drags ([`Simulation::grab`]).
+    grab: Option<Grab>,
     /// Set when the solver first produces NaN/inf or runaway stretch.
     pub stability: StabilityMonitor,
     backend: Box<dyn Backend>,
@@ -67,6 +70,7 @@ impl Simulation {
             fold_progress: 0.0,
             stepped_progress: 0.0,
             frames_stepped: 0,
+            grab: None,
             stability: StabilityMonitor::default(),
             backend,
             synced: true,
@@ -81,7 +85,6 @@ impl Simulation {
         self.sync();
         self.backend = backend;
         self.backend.upload(&self.particles);
-        self.backend.set_fold_progress(self.fold_progress);
     }
 
     /// Rebuilds the CPU solver that [`Simulation::settings`] name (after a
@@ -164,7 +167,12 @@ impl Simulation {
     /// zero puts it there), or lets go with `None`. Indices past the last
     /// particle are ignored.
     pub fn grab(&mut self, grab: Option<Grab>) {
-        self.world.grab = grab.filter(|g| (g.particle as usize) < self.particles.len());
+        self.grab = grab.filter(|g| (g.particle as usize) < self.particles.len());
+    }
+
+    /// The grabbed particle and its target, if any.
+    pub fn grabbed(&self) -> Option<Grab> {
+        self.grab
     }
 
     /// Advances by one frame of `frame_dt` seconds.
@@ -172,15 +180,21 @@ impl Simulation {
         if let Some(ramp) = self.fold_ramp {
             self.set_fold_progress(ramp.at(self.frames_stepped + 1));
         }
-        let held = self.stepped_progress == self.fold_progress;
-        self.backend.set_fold_held(held);
+        let control = Control {
+            frame_dt,
+            fold: FoldDrive {
+                progress: self.fold_progress,
+                held: self.stepped_progress == self.fold_progress,
+            },
+            grab: self.grab,
+        };
         self.stepped_progress = self.fold_progress;
         self.backend.step(
             &mut self.particles,
             &mut self.world,
             &self.settings,
             &self.compliances,
-            frame_dt,
+            &control,
             &mut self.stages,
         );
         self.world.time += frame_dt;
@@ -198,7 +212,6 @@ impl Simulation {
     /// hinge is driven to `c` times its full fold angle, without rebuilding.
     pub fn set_fold_progress(&mut self, c: f32) {
         self.fold_progress = if c.is_nan() { 0.0 } else { c.clamp(0.0, 1.0) };
-        self.backend.set_fold_progress(self.fold_progress);
     }
 
     /// The fold progress last set.

@@ -11,7 +11,7 @@
 //! is not passive: its driven creases store elastic energy that a flap
 //! snapping flat turns into motion, and motion can never hold more than
 //! that, so their energy at full progress
-//! ([`crate::origami::Paper::crease_energy`]) is added to the runaway
+//! ([`crate::paper::Paper::crease_energy`]) is added to the runaway
 //! threshold. The same figure lets solvers be compared on one scale
 //! whatever their elastic model.
 
@@ -296,7 +296,7 @@ impl RestExtent {
         let crease_energy = model
             .cloths
             .iter()
-            .filter_map(|c| Some(c.paper.as_ref()?.crease_energy(c, &model.rest)))
+            .filter_map(|c| Some(c.paper.as_ref()?.crease_energy(&model.rest[c.particles()])))
             .sum();
         RestExtent {
             mass: model.mass.iter().sum(),
@@ -408,7 +408,8 @@ mod tests {
 
     #[test]
     fn creases_of_paper_raise_the_threshold_by_the_energy_they_hold() {
-        use crate::origami::{builtin, paper_material, PaperStiffness, Sheet, SheetOptions};
+        use crate::origami::{builtin, Sheet, SheetOptions};
+        use crate::paper::{paper_material, PaperStiffness};
         let sheet = Sheet::from_pattern(&builtin("single-line").unwrap(), &SheetOptions::default())
             .unwrap();
         let mut model = Model::default();
@@ -432,7 +433,8 @@ mod tests {
 
     #[test]
     fn stretched_paper_is_torn_and_stretched_cloth_is_not() {
-        use crate::origami::{builtin, paper_material, PaperStiffness, Sheet, SheetOptions};
+        use crate::origami::{builtin, Sheet, SheetOptions};
+        use crate::paper::{paper_material, PaperStiffness};
         let paper = Sheet::from_pattern(&builtin("single-line").unwrap(), &SheetOptions::default())
             .unwrap();
         let mut model = Model::default();

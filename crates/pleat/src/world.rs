@@ -1,7 +1,6 @@
 //! The world the cloth lives in: gravity, wind, colliders and the clock.
 
 use crate::collide::Collider;
-use crate::constraint::Grab;
 use crate::force::Wind;
 use glam::Vec3;
 
@@ -10,8 +9,6 @@ pub struct World {
     pub gravity: Vec3,
     pub wind: Option<Wind>,
     pub colliders: Vec<Collider>,
-    /// A particle dragged by the user, if any (set between frames).
-    pub grab: Option<Grab>,
     /// Simulated time at the start of the next step (s).
     pub time: f32,
 }
@@ -22,7 +19,6 @@ impl Default for World {
             gravity: Vec3::new(0.0, -9.81, 0.0),
             wind: None,
             colliders: Vec::new(),
-            grab: None,
             time: 0.0,
         }
     }

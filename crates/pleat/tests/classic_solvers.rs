@@ -3,13 +3,13 @@
 //! unstable where XPBD stays finite; shape matching restores deformed
 //! shapes; Jacobi and Gauss-Seidel PBD reach the same rest state.
 
+use pleat::constraint::{project_once, Constraint, Substep};
 use pleat::constraint::{PairShape, TriangleShape};
 use pleat::glam::{Mat3, Vec3};
 use pleat::material::BendingModel;
 use pleat::mesh::GridOrientation;
 use pleat::scene::presets::hanging_cloth;
 use pleat::scene::{MeshSpec, Scene};
-use pleat::solver::parallel::{Constraint, SharedPositions};
 use pleat::{Simulation, SolverKind};
 use std::path::Path;
 
@@ -106,7 +106,7 @@ fn shape_matching_restores_sheared_and_inverted_shapes() {
         let pair = PairShape::at_rest([0, 1, 2, 3], &rest, &inv_mass, 1.0);
         for (c, n) in [(&triangle as &dyn Constraint, 3), (&pair, 4)] {
             let mut x: Vec<Vec3> = rest.iter().map(|&p| deform * p).collect();
-            c.project(&mut 0.0, SharedPositions::new(&mut x), &inv_mass, 0.0);
+            project_once(c, &mut 0.0, &mut x, &inv_mass, &Substep::as_built(0.0, 0.0));
             for i in 0..n {
                 for j in i + 1..n {
                     let (d, d0) = (x[i].distance(x[j]), rest[i].distance(rest[j]));

@@ -8,15 +8,15 @@ use std::path::{Path, PathBuf};
 
 use pleat::constraint::bending::{dihedral_angle, wrap_angle};
 use pleat::constraint::hinge::stiffened_error;
-use pleat::constraint::OrigamiHinge;
+use pleat::constraint::{FoldDrive, OrigamiHinge};
+use pleat::folding::{folded_state_fold, hinge_states, paper_simulation, FoldRamp, HingeState};
 use pleat::glam::{Vec3, Vec3A};
 use pleat::metrics::intersections::count_self_intersections;
 use pleat::metrics::strain::max_facet_strain;
 use pleat::origami::builtin::{miura_ori, MiuraOri};
 use pleat::origami::{
-    builtin, folded_state_fold, hinge_states, load_pattern, paper_simulation, parse_fold,
-    to_fold_json, Assignment, CreasePattern, FoldRamp, HingeState, Sheet, SheetOptions,
-    BUILTIN_NAMES,
+    builtin, load_pattern, parse_fold, to_fold_json, Assignment, CreasePattern, Sheet,
+    SheetOptions, BUILTIN_NAMES,
 };
 use pleat::scene::Scene;
 use pleat::Simulation;
@@ -64,10 +64,12 @@ fn hinge_gradient_matches_finite_differences() {
         Vec3::new(0.3, 0.7, 0.5),
         Vec3::new(0.6, -0.8, 0.3),
     ];
-    let mut hinge = OrigamiHinge::new([0, 1, 2, 3], -PI, 0.0, &p);
-    hinge.set_progress(0.3);
-    hinge.stiffen = 1;
-    let (c, grad) = hinge.evaluate(p.map(Vec3A::from)).unwrap();
+    let hinge = OrigamiHinge::new([0, 1, 2, 3], -PI, 0.0, &p);
+    let held = FoldDrive {
+        progress: 0.3,
+        held: true,
+    };
+    let (c, grad) = hinge.evaluate(p.map(Vec3A::from), held).unwrap();
     let phi = dihedral_angle(p).unwrap().0;
     assert!((c - stiffened_error(phi + 0.3 * PI).0).abs() < 1e-6);
     let h = 1e-3;
@@ -76,7 +78,7 @@ fn hinge_gradient_matches_finite_differences() {
             let at = |d: f32| {
                 let mut q = p;
                 q[i][k] += d;
-                hinge.evaluate(q.map(Vec3A::from)).unwrap().0
+                hinge.evaluate(q.map(Vec3A::from), held).unwrap().0
             };
             let fd = (at(h) - at(-h)) / (2.0 * h);
             assert!(
@@ -405,7 +407,7 @@ fn folded_states_from_elsewhere_fold_back_to_their_angles() {
         let pattern = load_pattern(repo().join("patterns/fold-examples").join(file)).unwrap();
         assert_eq!(pattern.crease_count(), creases, "{file}");
         let sim = fold(&pattern, 1.0);
-        let m = pleat::origami::FoldMetrics::measure(&sim).unwrap();
+        let m = pleat::folding::FoldMetrics::measure(&sim).unwrap();
         let e = m.max_fold_angle_error_deg;
         assert!(e.mountain.max(e.valley) < within, "{file}: {m:?}");
         assert!(m.max_strain < 0.01, "{file}: {m:?}");

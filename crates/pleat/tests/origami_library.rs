@@ -8,7 +8,8 @@
 
 use std::path::{Path, PathBuf};
 
-use pleat::origami::{load_pattern, paper_simulation, FoldMetrics, FoldRamp, Sheet, SheetOptions};
+use pleat::folding::{paper_simulation, FoldMetrics, FoldRamp};
+use pleat::origami::{load_pattern, Sheet, SheetOptions};
 
 const FRAME_DT: f32 = 1.0 / 60.0;
 const RAMP: u32 = 120;
@@ -47,7 +48,7 @@ const WITHIN_FIVE_DEGREES: [&str; 15] = [
 
 /// Origami Simulator's largest fold-angle error at full progress on the
 /// patterns it leaves far from their targets (its own page run headless,
-/// its defaults, settled: docs/origami.md; huffmanTower after 300 s, not
+/// its defaults, settled: docs/folding.md; huffmanTower after 300 s, not
 /// settled; waterbombTwist, removed upstream, as issue 12 gives it: 82
 /// rounded, so at least 81.5): pleat's must be no larger.
 const ORIGAMI_SIMULATOR_AT_ONE: [(&str, f32); 4] = [

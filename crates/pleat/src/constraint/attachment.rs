@@ -5,8 +5,9 @@
 //! compliance it is pulled there as a soft XPBD constraint. Targets move on
 //! a [`crate::collide::Motion`] script.
 
+use super::xpbd::{lagrange_update, position_step};
+use super::{Constraint, Positions, Substep};
 use crate::collide::Motion;
-use crate::solver::parallel::{Constraint, SharedPositions};
 use glam::Vec3;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -47,18 +48,19 @@ impl Constraint for Attachment {
         &self.particle
     }
 
-    fn project(&self, lambda: &mut f32, x: SharedPositions, inv_mass: &[f32], inv_dt2: f32) {
+    fn project(&self, lambda: &mut f32, x: &Positions, step: &Substep) {
         let i = self.particle[0];
-        let w = inv_mass[i as usize];
+        let w = x.inv_mass(i);
         let d = x.get(i) - self.target;
         let c = d.length();
         if w == 0.0 || c <= f32::EPSILON {
             return;
         }
-        let alpha = self.compliance * inv_dt2;
-        let dlambda = (-c - alpha * *lambda) / (w + alpha);
-        *lambda += dlambda;
-        x.add(i, d / c * (w * dlambda));
+        // An attachment's compliance is its own, not a live table's.
+        let alpha = self.compliance * step.inv_dt2;
+        if let Some(dlambda) = lagrange_update(c, w, alpha, lambda) {
+            position_step(x, i, w, d / c, dlambda);
+        }
     }
 }
 
@@ -75,19 +77,23 @@ pub struct Grab {
 }
 
 impl Grab {
-    /// Pulls the grabbed particle towards the target over a substep of `dt`.
+    /// Pulls the grabbed particle towards the target over a substep of
+    /// `dt`: one XPBD update from a zero multiplier.
     pub fn project(&self, x: &mut [Vec3], inv_mass: &[f32], dt: f32) {
         let i = self.particle as usize;
-        let (Some(xi), Some(&w)) = (x.get_mut(i), inv_mass.get(i)) else {
+        if i >= x.len() || i >= inv_mass.len() {
             return;
-        };
-        let d = *xi - self.target;
+        }
+        let d = x[i] - self.target;
         let c = d.length();
+        let w = inv_mass[i];
         if w == 0.0 || c <= f32::EPSILON {
             return;
         }
         let alpha = self.compliance / (dt * dt);
-        *xi -= d / c * (w * c / (w + alpha));
+        if let Some(dlambda) = lagrange_update(c, w, alpha, &mut 0.0) {
+            x[i] += d / c * (w * dlambda);
+        }
     }
 }
 
@@ -101,7 +107,8 @@ mod tests {
         a.update_target(0.0);
         let mut x = vec![Vec3::new(1.0, 0.0, 0.0)];
         let mut lambda = 0.0;
-        a.project(&mut lambda, SharedPositions::new(&mut x), &[1.0], 3600.0);
+        let step = Substep::as_built(3600.0, 0.0);
+        crate::constraint::project_once(&a, &mut lambda, &mut x, &[1.0], &step);
         assert!(x[0].x > 0.0 && x[0].x < 1.0, "{x:?}");
     }
 

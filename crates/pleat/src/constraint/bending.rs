@@ -11,7 +11,8 @@
 //! where `s_k = (x_k - x0) . e / |e|^2` locates the wing's foot on the edge.
 //! Origami hinges use the same angle with a moving target.
 
-use crate::solver::parallel::{Constraint, SharedPositions};
+use super::xpbd::{alpha_tilde, project};
+use super::{Constraint, Positions, Substep};
 use glam::{Vec3, Vec3A};
 use std::f32::consts::{PI, TAU};
 
@@ -113,61 +114,19 @@ impl DihedralBending {
     }
 }
 
-/// XPBD update of a constraint on the four particles `v` whose value and
-/// gradient are `c_grad`.
-#[inline]
-pub fn project_four(
-    v: [u32; 4],
-    compliance: f32,
-    (c, grad): (f32, [Vec3A; 4]),
-    lambda: &mut f32,
-    x: SharedPositions,
-    inv_mass: &[f32],
-    inv_dt2: f32,
-) {
-    let w = v.map(|i| inv_mass[i as usize]);
-    let denom: f32 = w
-        .iter()
-        .zip(&grad)
-        .map(|(w, g)| w * g.length_squared())
-        .sum();
-    let alpha = compliance * inv_dt2;
-    if denom + alpha <= f32::MIN_POSITIVE {
-        return;
-    }
-    let dlambda = (-c - alpha * *lambda) / (denom + alpha);
-    *lambda += dlambda;
-    for ((&i, &w), g) in v.iter().zip(&w).zip(grad) {
-        if w > 0.0 {
-            x.add(i, Vec3::from(g * (w * dlambda)));
-        }
-    }
-}
-
 impl Constraint for DihedralBending {
     fn particles(&self) -> &[u32] {
         &self.v
     }
 
-    fn compliance_slot(&self) -> u32 {
-        self.slot
-    }
-
     #[inline]
-    fn project(&self, lambda: &mut f32, x: SharedPositions, inv_mass: &[f32], inv_dt2: f32) {
+    fn project(&self, lambda: &mut f32, x: &Positions, step: &Substep) {
         let Some((phi, grad)) = dihedral_angle_simd(self.v.map(|i| Vec3A::from(x.get(i)))) else {
             return;
         };
         let c = wrap_angle(phi - self.rest_angle);
-        project_four(
-            self.v,
-            self.compliance,
-            (c, grad),
-            lambda,
-            x,
-            inv_mass,
-            inv_dt2,
-        );
+        let alpha = alpha_tilde(self.compliance, self.slot, step);
+        project(x, self.v, (c, grad), alpha, lambda);
     }
 }
 
@@ -252,8 +211,9 @@ pub(crate) mod tests {
         let com = |x: &[Vec3]| -> Vec3 { (0..4).map(|k| x[k] / w[k]).sum() };
         let before = com(&x);
         let mut lambda = 0.0;
+        let step = Substep::as_built(1.0, 0.0);
         for _ in 0..20 {
-            c.project(&mut lambda, SharedPositions::new(&mut x), &w, 1.0);
+            crate::constraint::project_once(&c, &mut lambda, &mut x, &w, &step);
         }
         let (phi, _) = dihedral_angle([x[0], x[1], x[2], x[3]]).unwrap();
         assert!((phi - 0.2).abs() < 1e-3, "{phi}");

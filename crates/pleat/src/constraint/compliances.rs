@@ -21,10 +21,10 @@ pub enum ComplianceKind {
     /// Bending, dihedral, isometric or skip-one ([`crate::Material::bend_compliance`]).
     Bend = 2,
     /// Mountain and valley hinges of paper, per unit length
-    /// ([`crate::origami::PaperStiffness::crease_compliance`]).
+    /// ([`crate::paper::PaperStiffness::crease_compliance`]).
     Crease = 3,
     /// Facet hinges of paper, per unit length
-    /// ([`crate::origami::PaperStiffness::facet_compliance`]).
+    /// ([`crate::paper::PaperStiffness::facet_compliance`]).
     Facet = 4,
 }
 

@@ -3,7 +3,8 @@
 //! limit (Provot 1995), a hard bound `|C| <= max_stretch` on top of the
 //! compliant constraint, so that a soft edge still cannot stretch far.
 
-use crate::solver::parallel::{Constraint, SharedPositions};
+use super::xpbd::{alpha_tilde, lagrange_update, position_step};
+use super::{Constraint, Positions, Substep};
 use glam::Vec3;
 
 #[repr(C)]
@@ -55,7 +56,7 @@ impl DistanceConstraint {
     /// `C` comes back within the limit: a hard projection of the excess
     /// alone, with no multiplier.
     #[inline]
-    fn limit(&self, c: f32, n: Vec3, x: SharedPositions, (wa, wb): (f32, f32)) {
+    fn limit(&self, c: f32, n: Vec3, x: &Positions, (wa, wb): (f32, f32)) {
         let excess = c - c.clamp(-self.max_stretch, self.max_stretch);
         if excess != 0.0 {
             let s = excess / (wa + wb);
@@ -68,9 +69,9 @@ impl DistanceConstraint {
     /// iterations of a substep). Returns how far the edge was beyond
     /// `slack` times its limit before the projection, as a strain
     /// (negative within it): the sweeps go on while some edge is.
-    pub fn project_limit(&self, x: SharedPositions, inv_mass: &[f32], slack: f32) -> f32 {
+    pub fn project_limit(&self, x: &Positions, slack: f32) -> f32 {
         let [a, b] = self.v;
-        let (wa, wb) = (inv_mass[a as usize], inv_mass[b as usize]);
+        let (wa, wb) = (x.inv_mass(a), x.inv_mass(b));
         if wa + wb == 0.0 || !self.is_limited() {
             return f32::NEG_INFINITY;
         }
@@ -94,14 +95,10 @@ impl Constraint for DistanceConstraint {
         &self.v
     }
 
-    fn compliance_slot(&self) -> u32 {
-        self.slot
-    }
-
     #[inline]
-    fn project(&self, lambda: &mut f32, x: SharedPositions, inv_mass: &[f32], inv_dt2: f32) {
+    fn project(&self, lambda: &mut f32, x: &Positions, step: &Substep) {
         let [a, b] = self.v;
-        let (wa, wb) = (inv_mass[a as usize], inv_mass[b as usize]);
+        let (wa, wb) = (x.inv_mass(a), x.inv_mass(b));
         let w = wa + wb;
         if w == 0.0 {
             return;
@@ -109,11 +106,13 @@ impl Constraint for DistanceConstraint {
         let Some((c, n)) = self.evaluate(x.get(a), x.get(b)) else {
             return;
         };
-        let alpha = self.compliance * inv_dt2;
-        let dlambda = (-c - alpha * *lambda) / (w + alpha);
-        *lambda += dlambda;
-        x.add(a, n * (wa * dlambda));
-        x.add(b, n * (-wb * dlambda));
+        // |grad C| = 1 for both ends: sum w |grad C|^2 = w.
+        let alpha = alpha_tilde(self.compliance, self.slot, step);
+        let Some(dlambda) = lagrange_update(c, w, alpha, lambda) else {
+            return;
+        };
+        position_step(x, a, wa, n, dlambda);
+        position_step(x, b, -wb, n, dlambda);
         // The projection moved the ends along n: C is now c + w dlambda.
         self.limit(c + w * dlambda, n, x, (wa, wb));
     }
@@ -123,6 +122,7 @@ impl Constraint for DistanceConstraint {
 mod tests {
     use super::*;
     use crate::constraint::bending::tests::finite_difference;
+    use crate::constraint::project_once;
 
     #[test]
     fn gradient_matches_finite_differences() {
@@ -151,12 +151,8 @@ mod tests {
             max_stretch: NO_STRAIN_LIMIT,
         };
         let mut lambda = 0.0;
-        c.project(
-            &mut lambda,
-            SharedPositions::new(&mut x),
-            &[1.0, 3.0],
-            3600.0,
-        );
+        let step = Substep::as_built(3600.0, 0.0);
+        project_once(&c, &mut lambda, &mut x, &[1.0, 3.0], &step);
         assert!((x[0].distance(x[1]) - 1.0).abs() < 1e-6);
         // The lighter particle (inverse mass 3) moves three times as far.
         assert!(
@@ -171,7 +167,8 @@ mod tests {
         let soft = DistanceConstraint::at_rest([0, 1], &[Vec3::ZERO, Vec3::X], 1e3);
         let project = |c: DistanceConstraint, stretched: f32| {
             let mut x = vec![Vec3::ZERO, Vec3::X * stretched];
-            c.project(&mut 0.0, SharedPositions::new(&mut x), &[1.0, 1.0], 3600.0);
+            let step = Substep::as_built(3600.0, 0.0);
+            project_once(&c, &mut 0.0, &mut x, &[1.0, 1.0], &step);
             x[0].distance(x[1])
         };
         assert!(project(soft, 1.2) > 1.19, "unlimited, it stays stretched");
@@ -182,7 +179,7 @@ mod tests {
         assert_eq!(project(limited, 1.005), project(soft, 1.005));
         // The limit alone: light ends move more, the edge ends at the bound.
         let mut x = vec![Vec3::ZERO, Vec3::X * 1.5];
-        let beyond = limited.project_limit(SharedPositions::new(&mut x), &[1.0, 3.0], 2.0);
+        let beyond = limited.project_limit(&Positions::new(&mut x, &[1.0, 3.0], &[0, 1]), 2.0);
         assert!((x[0].distance(x[1]) - 1.01).abs() < 1e-5);
         assert!((x[1].x - 1.5 + 3.0 * x[0].x).abs() < 1e-5, "{x:?}");
         // It was 50 % long: 48 % beyond twice its limit.
@@ -195,7 +192,7 @@ mod tests {
             .with_strain_limit(Some(0.01));
         let beyond = |length: f32| {
             let mut x = vec![Vec3::ZERO, Vec3::X * length];
-            edge.project_limit(SharedPositions::new(&mut x), &[1.0, 1.0], 1.8)
+            edge.project_limit(&Positions::new(&mut x, &[1.0, 1.0], &[0, 1]), 1.8)
         };
         // Within 1.8 times its 1 % limit, stretched or compressed: negative.
         assert!((beyond(2.02) + 0.008).abs() < 1e-5);
@@ -204,7 +201,7 @@ mod tests {
         // An edge with no limit never asks for another sweep.
         let free = DistanceConstraint::at_rest([0, 1], &[Vec3::ZERO, Vec3::X], 0.0);
         let mut x = vec![Vec3::ZERO, Vec3::X * 3.0];
-        let never = free.project_limit(SharedPositions::new(&mut x), &[1.0, 1.0], 1.8);
+        let never = free.project_limit(&Positions::new(&mut x, &[1.0, 1.0], &[0, 1]), 1.8);
         assert_eq!(never, f32::NEG_INFINITY);
         assert_eq!(x[1], Vec3::X * 3.0);
     }

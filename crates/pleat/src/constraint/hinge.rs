@@ -1,6 +1,6 @@
 //! Origami hinge: the dihedral fold angle of a triangle pair driven to a
-//! target, `C = phi - target_angle`, with `target_angle = c * full_angle`
-//! for the fold progress `c`, capped at [`MAX_TARGET_ANGLE`].
+//! target, `C = phi - target`, with `target = c * full_angle` for the fold
+//! progress `c` of the step's [`FoldDrive`], capped at [`MAX_TARGET_ANGLE`].
 //!
 //! The angle and its exact gradient are those of dihedral bending
 //! ([`dihedral_angle_simd`], valley positive). `atan2` wraps at +-pi, so a
@@ -12,7 +12,7 @@
 //! The tracked angle saturates at 225 degrees either way.
 //!
 //! While the fold is held (the progress has not moved since the last
-//! frame, [`OrigamiHinge::stiffen`]), a driven crease is a stiffening
+//! frame, [`FoldDrive::held`]), a driven crease is a stiffening
 //! spring ([`stiffened_error`]): its restoring moment `C dC/de` is 1.15
 //! times the linear one 30 degrees from the target and 2.7 times at 90
 //! degrees, easing back to 1.33 times at 180. Creases whose targets cannot
@@ -28,8 +28,9 @@
 //! its neighbours away from their targets. Flat hinges (facet diagonals,
 //! target 0) stay linear: they are paper's bending, not creases.
 
-use super::bending::{dihedral_angle_simd, project_four};
-use crate::solver::parallel::{Constraint, SharedPositions};
+use super::bending::dihedral_angle_simd;
+use super::xpbd::{alpha_tilde, project};
+use super::{Constraint, Positions, Substep};
 use glam::{Vec3, Vec3A};
 use std::f32::consts::{PI, TAU};
 
@@ -57,8 +58,6 @@ pub struct OrigamiHinge {
     pub v: [u32; 4],
     /// Fold angle at full progress `c = 1` (radians, valley positive).
     pub full_angle: f32,
-    /// Fold angle the hinge is driven to now (radians).
-    pub target_angle: f32,
     /// Inverse stiffness (rad^2 / J), a factor of the table entry `slot`.
     pub compliance: f32,
     /// Continuous fold angle at the end of the last substep (radians, may
@@ -67,9 +66,19 @@ pub struct OrigamiHinge {
     /// Entry of the live compliance table this constraint's compliance is
     /// a factor of ([`super::compliances`]; slot 0: the compliance as built).
     pub slot: u32,
-    /// 1 while the fold is held: a driven crease is then a stiffening
-    /// spring (see the module documentation); 0 while it moves.
-    pub stiffen: u32,
+}
+
+/// The fold's drive at a step, the same for every hinge: what the caller
+/// sets from frame to frame, read by each projection.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FoldDrive {
+    /// The fold progress `c` in `[0, 1]`: driven creases go to `c` times
+    /// their full angle.
+    pub progress: f32,
+    /// Whether the progress is held (unmoved since the last frame): a
+    /// driven crease is then a stiffening spring (see the module
+    /// documentation).
+    pub held: bool,
 }
 
 impl OrigamiHinge {
@@ -78,19 +87,12 @@ impl OrigamiHinge {
         let mut hinge = OrigamiHinge {
             v,
             full_angle,
-            target_angle: 0.0,
             compliance,
             angle: 0.0,
             slot: 0,
-            stiffen: 0,
         };
         hinge.track(|i| positions[i as usize]);
         hinge
-    }
-
-    /// Drives the hinge to `c` times its full fold angle.
-    pub fn set_progress(&mut self, c: f32) {
-        self.target_angle = Self::target(self.full_angle, c);
     }
 
     /// `c * full_angle`, capped at [`MAX_TARGET_ANGLE`] either way.
@@ -115,14 +117,21 @@ impl OrigamiHinge {
         }
     }
 
-    /// `C` and its gradient with respect to the four positions: the fold
-    /// angle's error, stiffened for a driven crease while the fold is held
-    /// ([`stiffened_error`]).
+    /// `C` and its gradient with respect to the four positions under the
+    /// fold's drive: the fold angle's error, stiffened for a driven crease
+    /// while the fold is held ([`stiffened_error`]).
     #[inline]
-    pub fn evaluate(&self, p: [Vec3A; 4]) -> Option<(f32, [Vec3A; 4])> {
+    pub fn evaluate(&self, p: [Vec3A; 4], fold: FoldDrive) -> Option<(f32, [Vec3A; 4])> {
+        self.evaluate_to(p, Self::target(self.full_angle, fold.progress), fold.held)
+    }
+
+    /// `C` and its gradient for the hinge driven to `target`, stiffened
+    /// while `held` for a driven crease.
+    #[inline]
+    pub fn evaluate_to(&self, p: [Vec3A; 4], target: f32, held: bool) -> Option<(f32, [Vec3A; 4])> {
         dihedral_angle_simd(p).map(|(phi, grad)| {
-            let error = self.unwrap(phi) - self.target_angle;
-            if self.full_angle == 0.0 || self.stiffen == 0 {
+            let error = self.unwrap(phi) - target;
+            if self.full_angle == 0.0 || !held {
                 return (error, grad);
             }
             let (c, slope) = stiffened_error(error);
@@ -136,22 +145,12 @@ impl Constraint for OrigamiHinge {
         &self.v
     }
 
-    fn compliance_slot(&self) -> u32 {
-        self.slot
-    }
-
     #[inline]
-    fn project(&self, lambda: &mut f32, x: SharedPositions, inv_mass: &[f32], inv_dt2: f32) {
-        if let Some(c_grad) = self.evaluate(self.v.map(|i| Vec3A::from(x.get(i)))) {
-            project_four(
-                self.v,
-                self.compliance,
-                c_grad,
-                lambda,
-                x,
-                inv_mass,
-                inv_dt2,
-            );
+    fn project(&self, lambda: &mut f32, x: &Positions, step: &Substep) {
+        let p = self.v.map(|i| Vec3A::from(x.get(i)));
+        if let Some(c_grad) = self.evaluate(p, step.fold) {
+            let alpha = alpha_tilde(self.compliance, self.slot, step);
+            project(x, self.v, c_grad, alpha, lambda);
         }
     }
 }
@@ -184,6 +183,7 @@ pub fn stiffened_error(e: f32) -> (f32, f32) {
 mod tests {
     use super::*;
     use crate::constraint::bending::tests::finite_difference;
+    use crate::constraint::project_once;
 
     /// Edge along x; the first wing lifted by `fold` radians about it, the
     /// second wing flat: the valley fold angle is `fold`.
@@ -211,15 +211,17 @@ mod tests {
     fn gradient_matches_finite_differences_across_pi() {
         // Folds near +-pi: the raw atan2 jumps there, the unwrapped angle does not.
         for fold in [0.5, 2.0, 3.1, PI, 3.2, -3.13, -0.8] {
-            let mut h = hinge_at(fold);
-            h.set_progress(0.9);
-            h.stiffen = 1;
+            let h = hinge_at(fold);
+            let held = FoldDrive {
+                progress: 0.9,
+                held: true,
+            };
             let p = pair(fold);
-            let (c, grad) = h.evaluate(p.map(Vec3A::from)).unwrap();
+            let (c, grad) = h.evaluate(p.map(Vec3A::from), held).unwrap();
             assert!((c - stiffened_error(h.angle - 0.9 * PI).0).abs() < 1e-5);
             let fd = finite_difference(&p, |q| {
                 let q = [q[0], q[1], q[2], q[3]].map(Vec3A::from);
-                h.evaluate(q).unwrap().0
+                h.evaluate(q, held).unwrap().0
             });
             for k in 0..4 {
                 let g = Vec3::from(grad[k]);
@@ -252,11 +254,12 @@ mod tests {
     fn projection_reaches_a_target_past_pi_from_below() {
         let mut x = pair(170f32.to_radians()).to_vec();
         let mut h = OrigamiHinge::new([0, 1, 2, 3], 0.0, 0.0, &x);
-        h.target_angle = 185f32.to_radians();
         let w = [1.0; 4];
         for _ in 0..30 {
-            let mut lambda = 0.0;
-            h.project(&mut lambda, SharedPositions::new(&mut x), &w, 1.0);
+            let view = Positions::new(&mut x, &w, &h.v);
+            let p = h.v.map(|i| Vec3A::from(view.get(i)));
+            let c_grad = h.evaluate_to(p, 185f32.to_radians(), false).unwrap();
+            project(&view, h.v, c_grad, 0.0, &mut 0.0);
             h.track(|i| x[i as usize]);
         }
         assert!((h.angle.to_degrees() - 185.0).abs() < 0.1, "{}", h.angle);
@@ -264,12 +267,16 @@ mod tests {
 
     #[test]
     fn progress_scales_the_full_angle() {
-        let mut h = hinge_at(0.0);
-        h.full_angle = -PI;
-        h.set_progress(0.25);
-        assert_eq!(h.target_angle, -PI / 4.0);
-        h.set_progress(1.0);
-        assert_eq!(h.target_angle, -MAX_TARGET_ANGLE);
+        assert_eq!(OrigamiHinge::target(-PI, 0.25), -PI / 4.0);
+        assert_eq!(OrigamiHinge::target(-PI, 1.0), -MAX_TARGET_ANGLE);
+        // A hinge at its target for the drive has no error.
+        let h = OrigamiHinge::new([0, 1, 2, 3], 2.0, 0.0, &pair(0.5));
+        let fold = FoldDrive {
+            progress: 0.25,
+            held: false,
+        };
+        let (c, _) = h.evaluate(pair(0.5).map(Vec3A::from), fold).unwrap();
+        assert!(c.abs() < 1e-5, "{c}");
     }
 
     #[test]
@@ -320,16 +327,20 @@ mod tests {
         // crease 1.92 rad from its target (4/5 of the 2.4 between them).
         let mut x = pair(1.0).to_vec();
         let driven = |full: f32, compliance: f32, x: &[Vec3]| {
-            let mut h = OrigamiHinge::new([0, 1, 2, 3], full, compliance, x);
-            h.set_progress(1.0);
-            h.stiffen = 1;
-            h
+            OrigamiHinge::new([0, 1, 2, 3], full, compliance, x)
         };
         let mut pair_of = [driven(0.2, 1.0, &x), driven(2.6, 4.0, &x)];
         let w = [2e-4; 4];
+        let held = Substep {
+            fold: FoldDrive {
+                progress: 1.0,
+                held: true,
+            },
+            ..Substep::as_built(1.0, 1.0)
+        };
         for _ in 0..100_000 {
             for h in &mut pair_of {
-                h.project(&mut 0.0, SharedPositions::new(&mut x), &w, 1.0);
+                project_once(&*h, &mut 0.0, &mut x, &w, &held);
                 h.track(|i| x[i as usize]);
             }
         }
@@ -344,8 +355,11 @@ mod tests {
     fn flat_hinges_stay_linear() {
         let mut h = hinge_at(1.2);
         h.full_angle = 0.0;
-        h.stiffen = 1;
-        let (c, grad) = h.evaluate(pair(1.2).map(Vec3A::from)).unwrap();
+        let held = FoldDrive {
+            progress: 1.0,
+            held: true,
+        };
+        let (c, grad) = h.evaluate(pair(1.2).map(Vec3A::from), held).unwrap();
         let (_, raw) = dihedral_angle_simd(pair(1.2).map(Vec3A::from)).unwrap();
         assert!((c - 1.2).abs() < 1e-5);
         assert_eq!(grad, raw);

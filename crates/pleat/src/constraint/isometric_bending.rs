@@ -10,7 +10,8 @@
 //! and its gradient `grad_i C = K_i b / (|b| |e_rest|)` costs no more than a
 //! distance constraint: no trigonometry, no cross products.
 
-use crate::solver::parallel::{Constraint, SharedPositions};
+use super::xpbd::{alpha_tilde, lagrange_update, position_step};
+use super::{Constraint, Positions, Substep};
 use glam::{Vec3, Vec3A};
 
 /// Folds below this (radians) are left alone: their direction is round-off.
@@ -67,26 +68,21 @@ impl Constraint for IsometricBending {
         &self.v
     }
 
-    fn compliance_slot(&self) -> u32 {
-        self.slot
-    }
-
     #[inline]
-    fn project(&self, lambda: &mut f32, x: SharedPositions, inv_mass: &[f32], inv_dt2: f32) {
+    fn project(&self, lambda: &mut f32, x: &Positions, step: &Substep) {
         let Some((c, dir)) = self.evaluate(self.v.map(|i| Vec3A::from(x.get(i)))) else {
             return;
         };
-        let w = self.v.map(|i| inv_mass[i as usize]);
-        let denom: f32 = w.iter().zip(&self.k).map(|(w, k)| w * k * k).sum();
-        let alpha = self.compliance * inv_dt2;
-        if denom + alpha <= f32::MIN_POSITIVE {
+        // grad_i C = k_i dir, |dir| = 1: sum w |grad C|^2 = sum w k^2.
+        let w = self.v.map(|i| x.inv_mass(i));
+        let norm: f32 = w.iter().zip(&self.k).map(|(w, k)| w * k * k).sum();
+        let alpha = alpha_tilde(self.compliance, self.slot, step);
+        let Some(dlambda) = lagrange_update(c, norm, alpha, lambda) else {
             return;
-        }
-        let dlambda = (-c - alpha * *lambda) / (denom + alpha);
-        *lambda += dlambda;
+        };
         for ((&i, &w), &k) in self.v.iter().zip(&w).zip(&self.k) {
             if w > 0.0 {
-                x.add(i, Vec3::from(dir * (w * k * dlambda)));
+                position_step(x, i, w * k, Vec3::from(dir), dlambda);
             }
         }
     }

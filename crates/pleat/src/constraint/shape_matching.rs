@@ -9,8 +9,8 @@
 //! particle moves `stiffness * (g_i - x_i)`, with the stiffness in [0, 1].
 //! Pinned particles act as very heavy ones, so the shape turns about them.
 
+use super::{Constraint, Positions, Substep};
 use crate::math::polar_rotation;
-use crate::solver::parallel::{Constraint, SharedPositions};
 use glam::{Mat3, Vec3};
 
 /// Weight of a pinned particle, relative to the heaviest dynamic one of the group.
@@ -87,14 +87,14 @@ impl<const N: usize> Constraint for ShapeMatching<N> {
         &self.v
     }
 
-    /// Moves the dynamic particles towards their goals; `lambda` and
-    /// `inv_dt2` are unused (PBD has no compliance).
-    fn project(&self, _lambda: &mut f32, x: SharedPositions, inv_mass: &[f32], _inv_dt2: f32) {
+    /// Moves the dynamic particles towards their goals; `lambda` and the
+    /// substep are unused (PBD has no compliance).
+    fn project(&self, _lambda: &mut f32, x: &Positions, _step: &Substep) {
         let current = self.v.map(|i| x.get(i));
         let goals = self.goals(&current);
         for k in 0..N {
             let i = self.v[k];
-            if inv_mass[i as usize] > 0.0 {
+            if x.inv_mass(i) > 0.0 {
                 x.add(i, (goals[k] - current[k]) * self.stiffness);
             }
         }
@@ -106,7 +106,7 @@ mod tests {
     use super::*;
 
     fn project<const N: usize>(c: &ShapeMatching<N>, x: &mut [Vec3], inv_mass: &[f32]) {
-        c.project(&mut 0.0, SharedPositions::new(x), inv_mass, 0.0);
+        crate::constraint::project_once(c, &mut 0.0, x, inv_mass, &Substep::as_built(0.0, 0.0));
     }
 
     fn distances(x: &[Vec3]) -> Vec<f32> {

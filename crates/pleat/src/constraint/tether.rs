@@ -3,7 +3,7 @@
 //! `C = |x - x_pin| - max_length <= 0`. They stop the stretch that builds up
 //! far from the pins when a few iterations cannot propagate it.
 
-use crate::solver::parallel::{Constraint, SharedPositions};
+use super::{Constraint, Positions, Substep};
 use glam::Vec3;
 use std::ops::Range;
 
@@ -52,9 +52,9 @@ impl Constraint for Tether {
     }
 
     #[inline]
-    fn project(&self, _lambda: &mut f32, x: SharedPositions, inv_mass: &[f32], _inv_dt2: f32) {
+    fn project(&self, _lambda: &mut f32, x: &Positions, _step: &Substep) {
         let i = self.particle[0];
-        if inv_mass[i as usize] == 0.0 {
+        if x.inv_mass(i) == 0.0 {
             return;
         }
         let d = x.get(i) - x.get(self.pin);
@@ -80,9 +80,9 @@ mod tests {
             Vec3::new(2.0, 0.0, 0.0),
             Vec3::new(2.0, 0.0, 0.0),
         ];
-        let shared = SharedPositions::new(&mut x);
+        let step = Substep::as_built(1.0, 0.0);
         for t in &tethers {
-            t.project(&mut 0.0, shared, &inv_mass, 1.0);
+            crate::constraint::project_once(t, &mut 0.0, &mut x, &inv_mass, &step);
         }
         assert!(
             (x[1].x - 1.0).abs() < 1e-6,

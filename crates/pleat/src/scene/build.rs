@@ -94,7 +94,6 @@ impl Scene {
             gravity: self.gravity,
             wind: self.wind,
             colliders,
-            grab: None,
             time: 0.0,
         };
         Ok((model, world))

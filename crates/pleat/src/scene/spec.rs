@@ -5,7 +5,7 @@ use crate::force::Wind;
 use crate::material::Material;
 use crate::mesh::generate::{Icosphere, TorusKnot};
 use crate::mesh::GridOrientation;
-use crate::origami::{FoldRamp, PaperStiffness};
+use crate::paper::{FoldRamp, PaperStiffness};
 use crate::solver::SolverSettings;
 use glam::{EulerRot, Quat, Vec3};
 use serde::{Deserialize, Serialize};

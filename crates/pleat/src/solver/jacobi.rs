@@ -15,6 +15,7 @@ use super::position_based::PbdLoop;
 use super::springs::{spring_pairs, SpringKind};
 use super::{SolverKind, SolverSettings, StageTimes};
 use crate::constraint::DistanceConstraint;
+use crate::control::Control;
 use crate::mesh::incidence::Incidence;
 use crate::model::Model;
 use crate::particles::Particles;
@@ -98,7 +99,7 @@ impl super::Solver for JacobiPbd {
         &mut self,
         particles: &mut Particles,
         world: &mut World,
-        frame_dt: f32,
+        control: &Control,
         stages: &mut StageTimes,
     ) {
         let mut sweep = Sweep {
@@ -109,7 +110,7 @@ impl super::Solver for JacobiPbd {
             relaxation: self.relaxation,
         };
         self.frame
-            .step(particles, world, frame_dt, stages, |p| sweep.iterate(p));
+            .step(particles, (world, control), stages, |p| sweep.iterate(p));
     }
 }
 

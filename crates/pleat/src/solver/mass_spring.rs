@@ -17,6 +17,7 @@ use super::position_based::{attachments, Contacts, HardPins};
 use super::springs::{spring_pairs, SpringKind};
 use super::{SolverKind, SolverSettings, StageTimes};
 use crate::constraint::Attachment;
+use crate::control::Control;
 use crate::force::{Spring, WindForces};
 use crate::material::SpringCoefficients;
 use crate::mesh::incidence::Incidence;
@@ -82,7 +83,7 @@ impl MassSpring {
     fn verlet_step(
         &mut self,
         p: &mut Particles,
-        world: &mut World,
+        (world, control): (&mut World, &Control),
         t: f32,
         dt: f32,
         stages: &mut StageTimes,
@@ -96,7 +97,7 @@ impl MassSpring {
         StageTimes::time(&mut stages.predict, || {
             self.integrate(p, dt);
             self.hard_pins.place(&mut p.x, t + dt);
-            if let Some(grab) = &world.grab {
+            if let Some(grab) = &control.grab {
                 grab.project(&mut p.x, &p.inv_mass, dt);
             }
         });
@@ -192,11 +193,11 @@ impl super::Solver for MassSpring {
         &mut self,
         particles: &mut Particles,
         world: &mut World,
-        frame_dt: f32,
+        control: &Control,
         stages: &mut StageTimes,
     ) {
-        for (t, dt) in super::substep_times(world.time, frame_dt, self.substeps) {
-            self.verlet_step(particles, world, t, dt, stages);
+        for (t, dt) in super::substep_times(world.time, control.frame_dt, self.substeps) {
+            self.verlet_step(particles, (world, control), t, dt, stages);
         }
     }
 }

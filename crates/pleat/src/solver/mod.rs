@@ -18,6 +18,7 @@ pub use xpbd::Xpbd;
 
 use crate::collide::SelfCollision;
 use crate::constraint::Compliances;
+use crate::control::Control;
 use crate::model::Model;
 use crate::particles::Particles;
 use crate::world::World;
@@ -142,26 +143,19 @@ pub trait Solver: Send {
     /// self-collision settings need a rebuild.
     fn set_settings(&mut self, settings: &SolverSettings);
 
-    /// Advances `particles` by `frame_dt` in `world`, starting at `world.time`.
+    /// Advances `particles` by `control.frame_dt` in `world`, starting at
+    /// `world.time`, driven by `control` (the fold, the grab).
     fn step(
         &mut self,
         particles: &mut Particles,
         world: &mut World,
-        frame_dt: f32,
+        control: &Control,
         stages: &mut StageTimes,
     );
 
     /// Takes the live compliance table for the next step; solvers without
     /// compliances ignore it.
     fn set_compliances(&mut self, _compliances: &Compliances) {}
-
-    /// Drives every origami hinge to `c` times its full fold angle; solvers
-    /// without hinges ignore it.
-    fn set_fold_progress(&mut self, _c: f32) {}
-
-    /// Whether the fold progress is held (unmoved since the last frame):
-    /// driven creases stiffen while it is; solvers without hinges ignore it.
-    fn set_fold_held(&mut self, _held: bool) {}
 }
 
 /// Builds the solver that `settings` name for `model`.

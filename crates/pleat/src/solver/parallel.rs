@@ -1,10 +1,15 @@
 //! Graph-coloured constraint sets solved colour by colour, each colour in parallel.
 //!
-//! Constraints of one colour share no dynamic particle, so they can be
-//! projected at the same time and in any order with bit-identical results:
-//! the outcome does not depend on the number of threads.
+//! Constraints of one colour share no particle, so they can be projected at
+//! the same time and in any order with bit-identical results: the outcome
+//! does not depend on the number of threads. Each projection gets a view
+//! of the positions ([`Positions`]) that keeps it to its own particles;
+//! the set keeps its items and colours private, so the colouring holds for
+//! as long as the set lives.
 
 use super::coloring::greedy_colors;
+use crate::constraint::positions::SharedPositions;
+use crate::constraint::{Constraint, Positions, Substep, MAX_PARTICLES};
 use glam::Vec3;
 use rayon::prelude::*;
 use std::ops::Range;
@@ -13,79 +18,41 @@ use std::ops::Range;
 /// do not pay more in scheduling than they gain.
 const MIN_TASK: usize = 512;
 
-/// Positions shared between the tasks that solve one colour.
-///
-/// Safety contract: while a colour is solved, each particle with non-zero
-/// inverse mass is written by at most one constraint, and no other task reads
-/// it; particles with zero inverse mass are only read.
-#[derive(Clone, Copy)]
-pub struct SharedPositions {
-    ptr: *mut Vec3,
-    len: usize,
-}
-
-// SAFETY: access follows the contract above, guaranteed by the colouring.
-unsafe impl Send for SharedPositions {}
-unsafe impl Sync for SharedPositions {}
-
-impl SharedPositions {
-    pub fn new(x: &mut [Vec3]) -> Self {
-        SharedPositions {
-            ptr: x.as_mut_ptr(),
-            len: x.len(),
-        }
-    }
-
-    #[inline]
-    pub fn get(&self, i: u32) -> Vec3 {
-        assert!((i as usize) < self.len);
-        // SAFETY: in bounds; no concurrent writer of this particle (contract).
-        unsafe { *self.ptr.add(i as usize) }
-    }
-
-    #[inline]
-    pub fn add(&self, i: u32, dx: Vec3) {
-        assert!((i as usize) < self.len);
-        // SAFETY: in bounds; this task is the particle's only writer (contract).
-        unsafe { *self.ptr.add(i as usize) += dx }
-    }
-}
-
-/// A constraint kind that can be coloured and projected with XPBD.
-pub trait Constraint: Send + Sync {
-    /// The dynamic particles the projection may move (used for colouring).
-    fn particles(&self) -> &[u32];
-
-    /// Projects the constraint once, updating its Lagrange multiplier.
-    /// `alpha_tilde_scale` is `1 / dt^2` of the substep.
-    fn project(&self, lambda: &mut f32, x: SharedPositions, inv_mass: &[f32], inv_dt2: f32);
-
-    /// The entry of the live compliance table its compliance is a factor
-    /// of ([`crate::constraint::compliances`]); 0, the compliance as built,
-    /// for constraints that have none.
-    fn compliance_slot(&self) -> u32 {
-        0
-    }
-}
+/// Smallest number of constraints a task updates in [`ColoredConstraints::update`].
+const MIN_UPDATE_TASK: usize = 2048;
 
 /// Constraints sorted by colour, with one Lagrange multiplier each.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct ColoredConstraints<C> {
-    pub items: Vec<C>,
-    pub lambda: Vec<f32>,
-    pub colors: Vec<Range<usize>>,
+    items: Vec<C>,
+    lambda: Vec<f32>,
+    colors: Vec<Range<usize>>,
 }
 
-impl<C: Constraint> ColoredConstraints<C> {
-    /// Colours `items` greedily and sorts them by colour.
-    pub fn new(items: Vec<C>, particle_count: usize) -> Self {
-        let (items, colors) = greedy_colors(items, particle_count, |c| c.particles());
-        let lambda = vec![0.0; items.len()];
+impl<C> Default for ColoredConstraints<C> {
+    fn default() -> Self {
         ColoredConstraints {
-            items,
-            lambda,
-            colors,
+            items: Vec::new(),
+            lambda: Vec::new(),
+            colors: Vec::new(),
         }
+    }
+}
+
+impl<C> ColoredConstraints<C> {
+    /// The constraints, sorted by colour.
+    pub fn items(&self) -> &[C] {
+        &self.items
+    }
+
+    /// The ranges of [`ColoredConstraints::items`] of one colour each.
+    pub fn colors(&self) -> &[Range<usize>] {
+        &self.colors
+    }
+
+    /// The Lagrange multipliers, one per item.
+    pub fn lambda(&self) -> &[f32] {
+        &self.lambda
     }
 
     pub fn len(&self) -> usize {
@@ -95,17 +62,56 @@ impl<C: Constraint> ColoredConstraints<C> {
     pub fn is_empty(&self) -> bool {
         self.items.is_empty()
     }
+}
+
+impl<C: Constraint> ColoredConstraints<C> {
+    /// Colours `items` greedily and sorts them by colour.
+    pub fn new(items: Vec<C>, particle_count: usize) -> Self {
+        assert!(
+            items.iter().all(|c| c.particles().len() <= MAX_PARTICLES),
+            "a constraint on more than {MAX_PARTICLES} particles"
+        );
+        let (items, colors) = greedy_colors(items, particle_count, |c| c.particles());
+        let lambda = vec![0.0; items.len()];
+        let set = ColoredConstraints {
+            items,
+            lambda,
+            colors,
+        };
+        debug_assert!(set.colors_are_independent(particle_count));
+        set
+    }
 
     /// Zeroes the multipliers (at the start of each substep).
     pub fn reset_lambda(&mut self) {
         self.lambda.fill(0.0);
     }
 
+    /// Changes each item with `f` (given its index), in parallel; an item
+    /// keeps its particles (checked: the colouring rests on them).
+    pub fn update(&mut self, f: impl Fn(usize, &mut C) + Sync) {
+        self.items
+            .par_iter_mut()
+            .enumerate()
+            .with_min_len(MIN_UPDATE_TASK)
+            .for_each(|(i, c)| {
+                let mut before = [0; MAX_PARTICLES];
+                let n = c.particles().len();
+                before[..n].copy_from_slice(c.particles());
+                f(i, c);
+                assert_eq!(
+                    c.particles(),
+                    &before[..n],
+                    "a constraint's particles changed"
+                );
+            });
+    }
+
     /// One Gauss-Seidel sweep: colour after colour, each colour in parallel,
-    /// each constraint's compliance scaled by its entry of `compliances`
-    /// (the live table, or [`crate::constraint::compliances::AS_BUILT`]).
-    pub fn solve(&mut self, x: &mut [Vec3], inv_mass: &[f32], inv_dt2: f32, compliances: &[f32]) {
-        let shared = SharedPositions::new(x);
+    /// each constraint projected with the substep's `1 / dt^2`, live
+    /// compliances and fold drive.
+    pub fn solve(&mut self, x: &mut [Vec3], inv_mass: &[f32], step: &Substep) {
+        let shared = SharedPositions::new(x, inv_mass);
         for range in &self.colors {
             let items = &self.items[range.clone()];
             let lambda = &mut self.lambda[range.clone()];
@@ -114,8 +120,12 @@ impl<C: Constraint> ColoredConstraints<C> {
                 .zip(lambda.par_iter_mut())
                 .with_min_len(MIN_TASK)
                 .for_each(|(c, l)| {
-                    let scale = compliances[c.compliance_slot() as usize];
-                    c.project(l, shared, inv_mass, inv_dt2 * scale)
+                    // SAFETY: the constraints of one colour share no
+                    // particle (`colors_are_independent`, and `update`
+                    // keeps each item's particles), so no two views of
+                    // this colour name one particle.
+                    let view = unsafe { shared.view(c.particles()) };
+                    c.project(l, &view, step)
                 });
         }
     }
@@ -127,18 +137,70 @@ impl<C: Constraint> ColoredConstraints<C> {
     pub fn sweep(
         &self,
         x: &mut [Vec3],
-        project: impl Fn(&C, SharedPositions) -> f32 + Sync,
+        inv_mass: &[f32],
+        project: impl Fn(&C, &Positions) -> f32 + Sync,
     ) -> f32 {
-        let shared = SharedPositions::new(x);
+        let shared = SharedPositions::new(x, inv_mass);
         self.colors
             .iter()
             .map(|range| {
                 self.items[range.clone()]
                     .par_iter()
                     .with_min_len(MIN_TASK)
-                    .map(|c| project(c, shared))
+                    .map(|c| {
+                        // SAFETY: as in `solve`, one colour's constraints
+                        // share no particle.
+                        let view = unsafe { shared.view(c.particles()) };
+                        project(c, &view)
+                    })
                     .reduce(|| f32::NEG_INFINITY, f32::max)
             })
             .fold(f32::NEG_INFINITY, f32::max)
+    }
+
+    /// Whether no two constraints of one colour share a particle.
+    fn colors_are_independent(&self, particle_count: usize) -> bool {
+        let mut last_color = vec![usize::MAX; particle_count];
+        self.colors.iter().enumerate().all(|(color, range)| {
+            self.items[range.clone()].iter().all(|c| {
+                c.particles()
+                    .iter()
+                    .all(|&p| std::mem::replace(&mut last_color[p as usize], color) != color)
+            })
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::constraint::DistanceConstraint;
+
+    fn chain(n: u32) -> ColoredConstraints<DistanceConstraint> {
+        let x: Vec<Vec3> = (0..=n).map(|i| Vec3::X * i as f32).collect();
+        let edges = (0..n)
+            .map(|i| DistanceConstraint::at_rest([i, i + 1], &x, 0.0))
+            .collect();
+        ColoredConstraints::new(edges, x.len())
+    }
+
+    #[test]
+    fn colours_share_no_particle() {
+        let set = chain(100);
+        assert_eq!(set.colors().len(), 2);
+        assert!(set.colors_are_independent(101));
+    }
+
+    #[test]
+    fn updates_keep_the_colouring() {
+        let mut set = chain(10);
+        set.update(|i, c| c.rest_length = i as f32);
+        assert_eq!(set.items()[3].rest_length, 3.0);
+    }
+
+    #[test]
+    #[should_panic(expected = "particles changed")]
+    fn an_update_that_moves_a_constraint_panics() {
+        chain(10).update(|_, c| c.v[0] = 0);
     }
 }

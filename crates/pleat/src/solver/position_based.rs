@@ -11,7 +11,8 @@ use super::{SolverSettings, StageTimes};
 use crate::collide::body_contact::BodyContacts;
 use crate::collide::{project_contacts, ColliderPose};
 use crate::constraint::compliances::AS_BUILT;
-use crate::constraint::Attachment;
+use crate::constraint::{Attachment, Substep};
+use crate::control::Control;
 use crate::force::WindForces;
 use crate::model::Model;
 use crate::particles::Particles;
@@ -244,39 +245,35 @@ impl PbdLoop {
     pub fn step(
         &mut self,
         p: &mut Particles,
-        world: &mut World,
-        frame_dt: f32,
+        (world, control): (&mut World, &Control),
         stages: &mut StageTimes,
         mut project: impl FnMut(&mut Particles),
     ) {
-        for (t, dt) in super::substep_times(world.time, frame_dt, self.settings.substeps) {
-            self.substep(p, world, t, dt, stages, &mut project);
+        let substeps = self.settings.substeps;
+        for t_dt in super::substep_times(world.time, control.frame_dt, substeps) {
+            self.substep(p, (world, control), t_dt, stages, &mut project);
         }
     }
 
     fn substep(
         &mut self,
         p: &mut Particles,
-        world: &mut World,
-        t: f32,
-        dt: f32,
+        (world, control): (&mut World, &Control),
+        (t, dt): (f32, f32),
         stages: &mut StageTimes,
         project: &mut impl FnMut(&mut Particles),
     ) {
         self.prediction
             .run(p, world, self.settings.damping, t, dt, stages);
         StageTimes::time(&mut stages.constraints, || {
-            for a in &mut self.soft_pins.items {
-                a.update_target(t + dt);
-            }
+            self.soft_pins.update(|_, a| a.update_target(t + dt));
             self.soft_pins.reset_lambda();
-            let inv_dt2 = 1.0 / (dt * dt);
+            let step = Substep::new(dt, AS_BUILT, control.fold);
             for _ in 0..self.settings.iterations {
                 project(p);
-                self.soft_pins
-                    .solve(&mut p.x, &p.inv_mass, inv_dt2, AS_BUILT);
+                self.soft_pins.solve(&mut p.x, &p.inv_mass, &step);
             }
-            if let Some(grab) = &world.grab {
+            if let Some(grab) = &control.grab {
                 grab.project(&mut p.x, &p.inv_mass, dt);
             }
         });

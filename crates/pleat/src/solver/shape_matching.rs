@@ -8,8 +8,8 @@
 use super::parallel::ColoredConstraints;
 use super::position_based::{inverse_masses, PbdLoop};
 use super::{SolverKind, SolverSettings, StageTimes};
-use crate::constraint::compliances::AS_BUILT;
-use crate::constraint::{PairShape, ShapeMatching, TriangleShape};
+use crate::constraint::{PairShape, ShapeMatching, Substep, TriangleShape};
+use crate::control::Control;
 use crate::model::{ClothPart, Model};
 use crate::particles::Particles;
 use crate::world::World;
@@ -81,13 +81,15 @@ impl super::Solver for PbdShapeMatching {
         &mut self,
         particles: &mut Particles,
         world: &mut World,
-        frame_dt: f32,
+        control: &Control,
         stages: &mut StageTimes,
     ) {
         let (triangles, pairs) = (&mut self.triangles, &mut self.pairs);
-        self.frame.step(particles, world, frame_dt, stages, |p| {
-            triangles.solve(&mut p.x, &p.inv_mass, 0.0, AS_BUILT);
-            pairs.solve(&mut p.x, &p.inv_mass, 0.0, AS_BUILT);
+        // Shape matching has no compliance: the substep's figures are unused.
+        let step = Substep::as_built(0.0, 0.0);
+        self.frame.step(particles, (world, control), stages, |p| {
+            triangles.solve(&mut p.x, &p.inv_mass, &step);
+            pairs.solve(&mut p.x, &p.inv_mass, &step);
         });
     }
 }

@@ -13,14 +13,16 @@ use super::{SolverKind, SolverSettings, StageTimes};
 use crate::collide::SelfContacts;
 use crate::constraint::{
     Attachment, ComplianceKind, Compliances, DihedralBending, DistanceConstraint, IsometricBending,
-    OrigamiHinge, Tether,
+    OrigamiHinge, Substep, Tether,
 };
+use crate::control::Control;
 use crate::material::BendingModel;
 use crate::model::{ClothPart, Model};
+use crate::origami::Assignment;
+use crate::paper::{full_angle, Paper};
 use crate::particles::Particles;
 use crate::world::World;
 use glam::Vec3;
-use rayon::prelude::*;
 
 /// Pins a tethered particle hangs from (its nearest ones).
 const TETHERS_PER_PARTICLE: usize = 2;
@@ -138,20 +140,16 @@ impl FoldLimits {
         self.held != self.moving
     }
 
-    /// Gives `items` (in the order the limits were built for) the limits
-    /// of a fold that is `held` or moves; `false`, touching nothing, where
-    /// they have them already.
-    pub fn apply(&mut self, held: bool, items: &mut [DistanceConstraint]) -> bool {
+    /// The limits of a fold that is `held` or moves, in the order of the
+    /// distance constraints they were built for; `None` where those were
+    /// the last applied (nothing to write).
+    pub fn apply(&mut self, held: bool) -> Option<&[f32]> {
         if self.applied == Some(held) {
-            return false;
+            return None;
         }
         self.applied = Some(held);
         self.came_to_rest = held && self.differ();
-        let limits = if held { &self.held } else { &self.moving };
-        for (d, &limit) in items.iter_mut().zip(limits) {
-            d.max_stretch = limit;
-        }
-        true
+        Some(if held { &self.held } else { &self.moving })
     }
 
     /// Whether the fold came to rest (its limits tightened) since the last
@@ -175,7 +173,7 @@ impl XpbdConstraints {
         for (index, cloth) in model.cloths.iter().enumerate() {
             distance.extend(edge_constraints(cloth, index, &model.rest));
             if let Some(paper) = &cloth.paper {
-                hinges.extend(paper.hinge_constraints(cloth, index, &model.rest));
+                hinges.extend(hinge_constraints(paper, cloth, index, &model.rest));
             } else {
                 match cloth.material.bending {
                     BendingModel::Dihedral => {
@@ -207,8 +205,8 @@ impl XpbdConstraints {
         }
         let (_, soft) = attachments(model);
         let distance = ColoredConstraints::new(distance, n);
-        let fold_limits = FoldLimits::new(model, &distance.items);
-        let strain_limit_sweeps = if distance.items.iter().any(DistanceConstraint::is_limited) {
+        let fold_limits = FoldLimits::new(model, distance.items());
+        let strain_limit_sweeps = if distance.items().iter().any(DistanceConstraint::is_limited) {
             STRAIN_LIMIT_SWEEPS
         } else {
             0
@@ -241,43 +239,30 @@ impl XpbdConstraints {
         self.len() == 0
     }
 
-    /// Drives every origami hinge to `c` times its full fold angle.
-    pub fn set_fold_progress(&mut self, c: f32) {
-        for h in &mut self.hinges.items {
-            h.set_progress(c);
-        }
-    }
-
-    /// Whether the fold is held: driven creases stiffen while it is
-    /// ([`crate::constraint::hinge`]); while it moves, paper's strain
-    /// limits allow [`MOVING_FOLD_STRAIN_SCALE`] times their stretch.
-    /// Returns whether anything changed ([`FoldLimits::apply`]).
-    pub fn set_fold_held(&mut self, held: bool) -> bool {
-        if !self.fold_limits.apply(held, &mut self.distance.items) {
+    /// Gives paper's strain limits those of a fold that is `held` or moves:
+    /// while it moves, they allow [`MOVING_FOLD_STRAIN_SCALE`] times their
+    /// stretch. Returns whether anything changed ([`FoldLimits::apply`]).
+    pub fn hold_fold(&mut self, held: bool) -> bool {
+        let Some(limits) = self.fold_limits.apply(held) else {
             return false;
-        }
-        for h in &mut self.hinges.items {
-            h.stiffen = held as u32;
-        }
+        };
+        self.distance.update(|i, d| d.max_stretch = limits[i]);
         true
     }
 
     /// One substep's projection: `iterations` Gauss-Seidel sweeps from zero
-    /// multipliers with the soft attachments' targets at `t_end` and the
-    /// live `compliances`, the strain limits' own sweeps, the free cloths
-    /// turned back by the angle the sweeps turned them
-    /// ([`super::momentum`]), then the hinges' tracked angles.
+    /// multipliers with the soft attachments' targets at `t_end`, the
+    /// strain limits' own sweeps, the free cloths turned back by the angle
+    /// the sweeps turned them ([`super::momentum`]), then the hinges'
+    /// tracked angles. The substep is `dt` long and ends at `t_end`.
     fn project(
         &mut self,
         p: &mut Particles,
-        (iterations, compliances): (u32, &[f32]),
-        t_end: f32,
-        dt: f32,
+        iterations: u32,
+        step: &Substep,
+        (t_end, dt): (f32, f32),
     ) {
-        let inv_dt2 = 1.0 / (dt * dt);
-        for a in &mut self.soft_attachments.items {
-            a.update_target(t_end);
-        }
+        self.soft_attachments.update(|_, a| a.update_target(t_end));
         self.distance.reset_lambda();
         self.bending.reset_lambda();
         self.isometric.reset_lambda();
@@ -285,21 +270,17 @@ impl XpbdConstraints {
         self.soft_attachments.reset_lambda();
         for _ in 0..iterations {
             let (x, w) = (&mut p.x, &p.inv_mass);
-            self.hinges.solve(x, w, inv_dt2, compliances);
-            self.distance.solve(x, w, inv_dt2, compliances);
-            self.bending.solve(x, w, inv_dt2, compliances);
-            self.isometric.solve(x, w, inv_dt2, compliances);
-            self.soft_attachments.solve(x, w, inv_dt2, compliances);
-            self.tethers.solve(x, w, inv_dt2, compliances);
+            self.hinges.solve(x, w, step);
+            self.distance.solve(x, w, step);
+            self.bending.solve(x, w, step);
+            self.isometric.solve(x, w, step);
+            self.soft_attachments.solve(x, w, step);
+            self.tethers.solve(x, w, step);
         }
         self.sweep_strain_limits(p);
         self.free_parts.restore(p, dt);
         let x = &p.x;
-        self.hinges
-            .items
-            .par_iter_mut()
-            .with_min_len(2048)
-            .for_each(|h| h.track(|i| x[i as usize]));
+        self.hinges.update(|_, h| h.track(|i| x[i as usize]));
     }
 
     /// Sweeps the strain limits over the positions, up to
@@ -307,11 +288,10 @@ impl XpbdConstraints {
     /// leaving the velocities as they are: a fold that came to rest meets
     /// its held limits without the corrections becoming motion.
     pub fn meet_held_limits(&self, p: &mut Particles) {
-        let w = &p.inv_mass;
         for _ in 0..FOLD_HOLD_SWEEPS {
             let beyond = self
                 .distance
-                .sweep(&mut p.x, |c, x| c.project_limit(x, w, 1.0));
+                .sweep(&mut p.x, &p.inv_mass, |c, x| c.project_limit(x, 1.0));
             if beyond <= 0.0 {
                 break;
             }
@@ -325,11 +305,10 @@ impl XpbdConstraints {
         if self.strain_limit_sweeps == 0 {
             return;
         }
-        let w = &p.inv_mass;
         for sweep in 1..=MAX_STRAIN_LIMIT_SWEEPS {
-            let beyond = self
-                .distance
-                .sweep(&mut p.x, |c, x| c.project_limit(x, w, STRAIN_LIMIT_SLACK));
+            let beyond = self.distance.sweep(&mut p.x, &p.inv_mass, |c, x| {
+                c.project_limit(x, STRAIN_LIMIT_SLACK)
+            });
             if sweep >= self.strain_limit_sweeps && beyond <= 0.0 {
                 break;
             }
@@ -353,21 +332,22 @@ impl Xpbd {
         }
     }
 
-    /// One substep from time `t` to `t + dt`.
+    /// One substep from time `t` to `t + dt`, driven by `control`.
     fn substep(
         &mut self,
         p: &mut Particles,
         world: &mut World,
-        t: f32,
-        dt: f32,
+        control: &Control,
+        (t, dt): (f32, f32),
         stages: &mut StageTimes,
     ) {
         self.prediction
             .run(p, world, self.settings.damping, t, dt, stages);
         StageTimes::time(&mut stages.constraints, || {
-            self.constraints
-                .project(p, (self.settings.iterations, &self.compliances), t + dt, dt);
-            if let Some(grab) = &world.grab {
+            let step = Substep::new(dt, &self.compliances, control.fold);
+            let iterations = self.settings.iterations;
+            self.constraints.project(p, iterations, &step, (t + dt, dt));
+            if let Some(grab) = &control.grab {
                 grab.project(&mut p.x, &p.inv_mass, dt);
             }
         });
@@ -404,28 +384,22 @@ impl super::Solver for Xpbd {
         compliances.write_to(&mut self.compliances);
     }
 
-    fn set_fold_progress(&mut self, c: f32) {
-        self.constraints.set_fold_progress(c);
-    }
-
-    fn set_fold_held(&mut self, held: bool) {
-        self.constraints.set_fold_held(held);
-    }
-
     fn step(
         &mut self,
         particles: &mut Particles,
         world: &mut World,
-        frame_dt: f32,
+        control: &Control,
         stages: &mut StageTimes,
     ) {
+        self.constraints.hold_fold(control.fold.held);
         if self.constraints.fold_limits.take_came_to_rest() {
             StageTimes::time(&mut stages.constraints, || {
                 self.constraints.meet_held_limits(particles)
             });
         }
-        for (t, dt) in super::substep_times(world.time, frame_dt, self.settings.substeps) {
-            self.substep(particles, world, t, dt, stages);
+        let substeps = self.settings.substeps;
+        for t_dt in super::substep_times(world.time, control.frame_dt, substeps) {
+            self.substep(particles, world, control, t_dt, stages);
         }
     }
 }
@@ -480,6 +454,36 @@ fn edge_constraints<'a>(
     })
 }
 
+/// The hinge constraints of the paper of `cloth` (global indices, the
+/// model's cloth `index`), their compliances read live from the crease and
+/// facet slots of the cloth ([`Compliances`]) per unit length; unassigned
+/// hinges get none.
+fn hinge_constraints(
+    paper: &Paper,
+    cloth: &ClothPart,
+    index: usize,
+    rest: &[Vec3],
+) -> Vec<OrigamiHinge> {
+    paper
+        .hinges
+        .iter()
+        .filter_map(|h| {
+            let full_angle = full_angle(h)?;
+            let v = h.v.map(|i| cloth.global(i));
+            let length = rest[v[0] as usize].distance(rest[v[1] as usize]);
+            let kind = match h.assignment {
+                Assignment::Flat => ComplianceKind::Facet,
+                _ => ComplianceKind::Crease,
+            };
+            let per_length = 1.0 / length.max(f32::MIN_POSITIVE);
+            Some(OrigamiHinge {
+                slot: Compliances::slot(index, kind),
+                ..OrigamiHinge::new(v, full_angle, per_length, rest)
+            })
+        })
+        .collect()
+}
+
 /// Dihedral bending on every pair of adjacent triangles of cloth `index`,
 /// reading the cloth's live bending compliance.
 fn dihedral_constraints<'a>(
@@ -521,7 +525,6 @@ fn skip_one_constraints(cloth: &ClothPart, index: usize, rest: &[Vec3]) -> Vec<D
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::solver::Solver;
 
     /// A waterbomb base stretched by 10 % about its centre, at rest, after
     /// its fold moved (limits 20 %) and came to rest (limits 1 %), with the
@@ -534,16 +537,25 @@ mod tests {
         model.add_paper(
             "paper",
             &sheet,
-            crate::origami::paper_material(),
-            crate::origami::PaperStiffness::default(),
+            crate::paper::paper_material(),
+            crate::paper::PaperStiffness::default(),
         );
-        let mut solver = Xpbd::new(&model, &crate::origami::paper_solver_settings());
+        let mut solver = Xpbd::new(
+            &model,
+            &SolverSettings {
+                // Paper's (crate::folding::paper_solver_settings).
+                substeps: 160,
+                iterations: 1,
+                damping: 10.0,
+                ..SolverSettings::default()
+            },
+        );
         let mut p = Particles::new(model.rest.clone(), &model.mass);
         for x in &mut p.x {
             *x *= 1.1;
         }
-        solver.set_fold_held(false);
-        solver.set_fold_held(true);
+        solver.constraints.hold_fold(false);
+        solver.constraints.hold_fold(true);
         assert!(solver.constraints.fold_limits.came_to_rest);
         if hold_sweeps {
             let v = p.v.clone();
@@ -555,11 +567,18 @@ mod tests {
             ..World::default()
         };
         let dt = 1.0 / (60.0 * solver.settings.substeps as f32);
-        solver.substep(&mut p, &mut world, 0.0, dt, &mut StageTimes::default());
+        let control = Control::frame(1.0 / 60.0);
+        solver.substep(
+            &mut p,
+            &mut world,
+            &control,
+            (0.0, dt),
+            &mut StageTimes::default(),
+        );
         let strain = |d: &DistanceConstraint| {
             p.x[d.v[0] as usize].distance(p.x[d.v[1] as usize]) / d.rest_length - 1.0
         };
-        let items = &solver.constraints.distance.items;
+        let items = solver.constraints.distance.items();
         let largest = items.iter().map(strain).fold(0.0, f32::max);
         let fastest = p.v.iter().map(|v| v.length()).fold(0.0, f32::max);
         (largest, fastest)
@@ -596,15 +615,19 @@ mod tests {
             .unwrap()
             .model;
         let mut c = XpbdConstraints::new(&model);
-        let held: Vec<f32> = c.distance.items.iter().map(|d| d.max_stretch).collect();
+        let held: Vec<f32> = c.distance.items().iter().map(|d| d.max_stretch).collect();
         let paper = model.cloths[0].particles();
         let on_paper = |d: &DistanceConstraint| paper.contains(&(d.v[0] as usize));
-        assert!(c.distance.items.iter().all(DistanceConstraint::is_limited));
-        assert!(c.distance.items.iter().any(|d| !on_paper(d)));
+        assert!(c
+            .distance
+            .items()
+            .iter()
+            .all(DistanceConstraint::is_limited));
+        assert!(c.distance.items().iter().any(|d| !on_paper(d)));
         for _ in 0..3 {
-            assert!(c.set_fold_held(false));
-            assert!(!c.set_fold_held(false), "nothing to write again");
-            for (d, h) in c.distance.items.iter().zip(&held) {
+            assert!(c.hold_fold(false));
+            assert!(!c.hold_fold(false), "nothing to write again");
+            for (d, h) in c.distance.items().iter().zip(&held) {
                 let scale = if on_paper(d) {
                     MOVING_FOLD_STRAIN_SCALE
                 } else {
@@ -612,8 +635,8 @@ mod tests {
                 };
                 assert_eq!(d.max_stretch, h * scale);
             }
-            assert!(c.set_fold_held(true));
-            let now: Vec<f32> = c.distance.items.iter().map(|d| d.max_stretch).collect();
+            assert!(c.hold_fold(true));
+            let now: Vec<f32> = c.distance.items().iter().map(|d| d.max_stretch).collect();
             assert_eq!(now, held, "whole again, to the bit");
         }
     }
