@@ -5,8 +5,9 @@
 //!   wasm-bindgen crate's exact version (installed with `cargo install`, into
 //!   the target folder), writes a folder of static files, and serves it on
 //!   localhost (not with `--release`, which only writes the folder to deploy).
-//! - `cargo xtask test`: the Rust tests, then the web build and the browser
-//!   test (tests/web, headless Chromium with WebGPU through playwright-core).
+//! - `cargo xtask test`: the Rust tests (doctests included), the library's
+//!   example, then the web build and the browser test (tests/web, headless
+//!   Chromium with WebGPU through playwright-core).
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
@@ -164,6 +165,21 @@ fn test() -> Result<(), String> {
     let root = workspace_root()?;
     run(cargo()
         .args(["test", "--workspace", "--locked"])
+        .current_dir(&root))?;
+    // The library's runnable example: a scene built in code, stepped on the
+    // CPU and the GPU, written as glb.
+    let glb = target_dir(&root)?.join("examples-out/drape_in_code.glb");
+    run(cargo()
+        .args([
+            "run",
+            "--locked",
+            "-p",
+            "pleat-gpu",
+            "--example",
+            "drape_in_code",
+            "--",
+        ])
+        .arg(&glb)
         .current_dir(&root))?;
     let dist = build_web(true, None)?;
     let tests = root.join("tests/web");
