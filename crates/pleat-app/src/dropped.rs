@@ -65,7 +65,7 @@ fn folded(name: &str) -> Result<(Scene, String), String> {
 /// A cloth draped over the mesh `name`, scaled to fit and set on the ground.
 fn draped_over(name: &str, files: &InMemory) -> Result<(Scene, String), String> {
     use pleat::scene::SceneFiles;
-    let bytes = files.read(name)?;
+    let bytes = files.read(name).map_err(|e| format!("{name}: {e}"))?;
     let text = String::from_utf8(bytes).map_err(|_| format!("{name}: not UTF-8 text"))?;
     let mesh = parse_obj(&text, name).map_err(|e| e.to_string())?;
     let (lo, hi) = mesh.positions.iter().fold(

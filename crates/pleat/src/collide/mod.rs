@@ -19,8 +19,8 @@ mod shape;
 pub use contact::{project_contacts, ColliderPose};
 pub use mesh_collider::MeshCollider;
 pub use motion::Motion;
-pub use rigid_body::{MassProperties, RigidBody};
-pub use sdf::SdfGrid;
+pub use rigid_body::{MassError, MassProperties, RigidBody};
+pub use sdf::{SdfError, SdfGrid};
 pub use self_contact::{SelfCollision, SelfContactStats, SelfContacts};
 pub use shape::Shape;
 

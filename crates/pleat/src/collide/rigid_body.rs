@@ -17,6 +17,22 @@ use glam::{Affine3A, DVec3, Mat3, Quat, Vec3};
 use std::collections::HashSet;
 use std::f32::consts::PI;
 
+/// Why a shape has no mass properties.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum MassError {
+    /// The mesh's signed volume is (nearly) zero: it is open or flat.
+    #[error("the mesh encloses no volume: a dynamic mesh must be closed")]
+    NoVolume,
+    /// A plane is unbounded.
+    #[error("a plane cannot be dynamic: it has no finite mass")]
+    Plane,
+    /// A distance field keeps no solid to integrate; the mesh it was baked
+    /// from must be weighed instead.
+    #[error("a distance field needs its mesh to be weighed")]
+    DistanceField,
+}
+
 /// Mass, centre of mass and inertia tensor of a solid.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MassProperties {
@@ -76,7 +92,10 @@ impl MassProperties {
 
     /// The solid a closed triangle mesh bounds (either winding; the sign of
     /// the volume tells). Errors on a mesh that encloses no volume.
-    pub fn mesh(triangles: impl Iterator<Item = [Vec3; 3]>, density: f32) -> Result<Self, String> {
+    pub fn mesh(
+        triangles: impl Iterator<Item = [Vec3; 3]>,
+        density: f32,
+    ) -> Result<Self, MassError> {
         let triangles: Vec<[Vec3; 3]> = triangles.collect();
         // Integrate about a point near the mesh, for precision.
         let origin = triangles.first().map_or(Vec3::ZERO, |t| t[0]).as_dvec3();
@@ -120,7 +139,7 @@ impl MassProperties {
         );
         let extent = (hi - lo).as_dvec3();
         if !volume.is_finite() || volume.abs() <= 1e-6 * extent.x * extent.y * extent.z {
-            return Err("the mesh encloses no volume: a dynamic mesh must be closed".into());
+            return Err(MassError::NoVolume);
         }
         if volume < 0.0 {
             for i in &mut integral {
@@ -152,9 +171,9 @@ impl MassProperties {
     /// The mass properties of `shape` at `density` (kg/m^3). Planes have
     /// none; distance fields are measured from the mesh they were baked
     /// from ([`MassProperties::mesh`]).
-    pub fn of_shape(shape: &Shape, density: f32) -> Result<Self, String> {
+    pub fn of_shape(shape: &Shape, density: f32) -> Result<Self, MassError> {
         match shape {
-            Shape::Plane { .. } => Err("a plane cannot be dynamic: it has no finite mass".into()),
+            Shape::Plane { .. } => Err(MassError::Plane),
             Shape::Sphere { center, radius } => Ok(Self::sphere(*center, *radius, density)),
             Shape::Box {
                 center,
@@ -163,7 +182,7 @@ impl MassProperties {
             } => Ok(Self::cuboid(*center, *half_extents, *rotation, density)),
             Shape::Capsule { a, b, radius } => Ok(Self::capsule(*a, *b, *radius, density)),
             Shape::Mesh(mesh) => Self::mesh(mesh.triangles(), density),
-            Shape::Sdf(_) => Err("a distance field needs its mesh to be weighed".into()),
+            Shape::Sdf(_) => Err(MassError::DistanceField),
         }
     }
 

@@ -22,6 +22,33 @@ pub const PADDING_CELLS: f32 = 2.0;
 /// Most grid nodes a field may have (64 MiB of distances).
 pub const MAX_NODES: usize = 1 << 24;
 
+/// Why a distance field cannot be baked.
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum SdfError {
+    /// The cell size is zero, negative or not a number.
+    #[error("must be a positive number, got {cell_size}")]
+    CellSize {
+        /// The cell size asked for.
+        cell_size: f32,
+    },
+    /// The mesh has no triangles to measure the distance to.
+    #[error("the mesh has no triangles")]
+    EmptyMesh,
+    /// The cell size is so small for the mesh that the grid would pass
+    /// [`MAX_NODES`].
+    #[error(
+        "a cell size of {cell_size} needs a grid of {} x {} x {} nodes, more than {max}; use a larger cell size",
+        .dims[0], .dims[1], .dims[2], max = MAX_NODES
+    )]
+    TooManyNodes {
+        /// The cell size asked for.
+        cell_size: f32,
+        /// Nodes the grid would have along x, y and z.
+        dims: [usize; 3],
+    },
+}
+
 /// Distances on the nodes of a regular grid.
 #[derive(Clone, PartialEq)]
 pub struct SdfGrid {
@@ -50,13 +77,13 @@ impl SdfGrid {
     /// Samples `mesh`'s signed distance on a grid of `cell_size` around it.
     /// Refuses a cell size that is not positive, or so small that the grid
     /// would pass [`MAX_NODES`].
-    pub fn bake(mesh: &MeshCollider, cell_size: f32) -> Result<Self, String> {
+    pub fn bake(mesh: &MeshCollider, cell_size: f32) -> Result<Self, SdfError> {
         if !(cell_size.is_finite() && cell_size > 0.0) {
-            return Err(format!("must be a positive number, got {cell_size}"));
+            return Err(SdfError::CellSize { cell_size });
         }
         let Aabb { min, max } = mesh.bounds();
         if !min.cmple(max).all() {
-            return Err("the mesh has no triangles".into());
+            return Err(SdfError::EmptyMesh);
         }
         let padding = Vec3::splat(PADDING_CELLS * cell_size);
         let cells = ((max - min + 2.0 * padding) / cell_size).ceil();
@@ -64,12 +91,7 @@ impl SdfGrid {
         let count = dims.iter().try_fold(1usize, |n, &d| n.checked_mul(d));
         match count {
             Some(n) if n <= MAX_NODES => {}
-            _ => {
-                return Err(format!(
-                    "a cell size of {cell_size} needs a grid of {} x {} x {} nodes, more than {MAX_NODES}; use a larger cell size",
-                    dims[0], dims[1], dims[2]
-                ))
-            }
+            _ => return Err(SdfError::TooManyNodes { cell_size, dims }),
         }
         let mut grid = SdfGrid {
             origin: min - padding,

@@ -23,7 +23,7 @@ pub fn parse_cp(text: &str) -> Result<CreasePattern, PatternError> {
         }
         let location = format!("line {}", number + 1);
         let (assignment, a, b) =
-            parse_line(&fields).map_err(|reason| PatternError::new(location, reason))?;
+            parse_line(&fields).map_err(|e| PatternError::new(location, e.to_string()))?;
         builder.segment(a, b, assignment, None);
         segments += 1;
     }
@@ -36,9 +36,31 @@ pub fn parse_cp(text: &str) -> Result<CreasePattern, PatternError> {
     Ok(builder.finish())
 }
 
-fn parse_line(fields: &[&str]) -> Result<(Assignment, DVec2, DVec2), String> {
+/// What is wrong with one line of a `.cp` file; [`parse_cp`] puts it in a
+/// [`PatternError`] at the line.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+enum LineError {
+    /// Not the five fields `type x1 y1 x2 y2`.
+    #[error("expected 5 fields, found {found}")]
+    FieldCount { found: usize },
+    /// A line type other than 0 to 4.
+    #[error(
+        "unknown line type '{field}' (expected 0 or 4 auxiliary, 1 boundary, 2 mountain, 3 valley)"
+    )]
+    LineType { field: String },
+    /// A coordinate that is not a number.
+    #[error("{name}: bad number '{field}'")]
+    BadNumber { name: &'static str, field: String },
+    /// A coordinate that is infinite or NaN.
+    #[error("{name}: number '{field}' is not finite")]
+    NotFinite { name: &'static str, field: String },
+}
+
+fn parse_line(fields: &[&str]) -> Result<(Assignment, DVec2, DVec2), LineError> {
     if fields.len() != FIELD_NAMES.len() {
-        return Err(format!("expected 5 fields, found {}", fields.len()));
+        return Err(LineError::FieldCount {
+            found: fields.len(),
+        });
     }
     let assignment = line_type(fields[0])?;
     let mut numbers = [0.0; 4];
@@ -49,23 +71,29 @@ fn parse_line(fields: &[&str]) -> Result<(Assignment, DVec2, DVec2), String> {
     Ok((assignment, DVec2::new(x1, y1), DVec2::new(x2, y2)))
 }
 
-fn line_type(field: &str) -> Result<Assignment, String> {
+fn line_type(field: &str) -> Result<Assignment, LineError> {
     match field {
         "0" | "4" => Ok(Assignment::Auxiliary),
         "1" => Ok(Assignment::Boundary),
         "2" => Ok(Assignment::Mountain),
         "3" => Ok(Assignment::Valley),
-        other => Err(format!(
-            "unknown line type '{other}' (expected 0 or 4 auxiliary, 1 boundary, 2 mountain, 3 valley)"
-        )),
+        other => Err(LineError::LineType {
+            field: other.to_string(),
+        }),
     }
 }
 
-fn coordinate(name: &str, field: &str) -> Result<f64, String> {
+fn coordinate(name: &'static str, field: &str) -> Result<f64, LineError> {
     match field.parse::<f64>() {
         Ok(value) if value.is_finite() => Ok(value),
-        Ok(_) => Err(format!("{name}: number '{field}' is not finite")),
-        Err(_) => Err(format!("{name}: bad number '{field}'")),
+        Ok(_) => Err(LineError::NotFinite {
+            name,
+            field: field.to_string(),
+        }),
+        Err(_) => Err(LineError::BadNumber {
+            name,
+            field: field.to_string(),
+        }),
     }
 }
 

@@ -8,6 +8,54 @@ use glam::{DAffine2, DVec2};
 /// Straight pieces a Bezier curve of path data becomes.
 pub const CURVE_SEGMENTS: usize = 8;
 
+/// Why path data, a point list or a transform list cannot be read.
+/// Characters are counted from 1.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum SyntaxError {
+    /// No number where one is needed.
+    #[error("expected a number at character {at}")]
+    ExpectedNumber { at: usize },
+    /// A number that does not parse or is not finite (`1e999`).
+    #[error("bad number '{token}' at character {at}")]
+    BadNumber { token: String, at: usize },
+    /// Path data starts with numbers, not a command.
+    #[error("path data must start with a moveto (M or m)")]
+    NoMoveto,
+    /// Path data starts with a command other than a moveto.
+    #[error("path data must start with a moveto (M or m), found '{found}'")]
+    FirstCommand { found: char },
+    /// Numbers after a closepath, which takes none.
+    #[error("expected a command after 'z'")]
+    NumbersAfterClose,
+    /// An elliptical arc (`A`, `a`).
+    #[error(
+        "arc command '{command}' is not supported (flatten arcs to line segments or Bezier curves)"
+    )]
+    Arc { command: char },
+    /// A letter that is no path command.
+    #[error("unknown command '{command}' at character {at}")]
+    UnknownCommand { command: char, at: usize },
+    /// A point list with an x and no y.
+    #[error("odd number of coordinates ({count})")]
+    OddCoordinates { count: usize },
+    /// A transform function name not followed by `(`.
+    #[error("expected '(' after '{name}' at character {at}")]
+    ExpectedOpen { name: String, at: usize },
+    /// A transform function's arguments never closed.
+    #[error("missing ')' after '{name}('")]
+    MissingClose { name: String },
+    /// A transform function given a count of numbers it does not take.
+    #[error("{name} takes {allowed:?} numbers, found {found}")]
+    Arity {
+        name: &'static str,
+        allowed: &'static [usize],
+        found: usize,
+    },
+    /// A transform function SVG does not have.
+    #[error("unknown transform function '{name}'")]
+    UnknownTransform { name: String },
+}
+
 /// One subpath of a path, polygon or polyline: its points in order and
 /// whether it closes back to the first.
 #[derive(Clone, Debug, PartialEq)]
@@ -50,7 +98,7 @@ impl<'a> Scanner<'a> {
         self.text[..self.pos].chars().count() + 1
     }
 
-    fn number(&mut self) -> Result<f64, String> {
+    fn number(&mut self) -> Result<f64, SyntaxError> {
         self.skip_separators();
         let bytes = self.text.as_bytes();
         let start = self.pos;
@@ -72,10 +120,9 @@ impl<'a> Scanner<'a> {
             end += 1 + fraction;
         }
         if whole + fraction == 0 {
-            return Err(format!(
-                "expected a number at character {}",
-                self.position()
-            ));
+            return Err(SyntaxError::ExpectedNumber {
+                at: self.position(),
+            });
         }
         if matches!(bytes.get(end), Some(b'e' | b'E')) {
             let sign = usize::from(matches!(bytes.get(end + 1), Some(b'+' | b'-')));
@@ -90,21 +137,21 @@ impl<'a> Scanner<'a> {
                 self.pos = end;
                 Ok(v)
             }
-            _ => Err(format!(
-                "bad number '{token}' at character {}",
-                self.position()
-            )),
+            _ => Err(SyntaxError::BadNumber {
+                token: token.to_string(),
+                at: self.position(),
+            }),
         }
     }
 
-    fn pair(&mut self) -> Result<DVec2, String> {
+    fn pair(&mut self) -> Result<DVec2, SyntaxError> {
         Ok(DVec2::new(self.number()?, self.number()?))
     }
 }
 
 /// Path data with M, L, H, V, Z, C, S, Q, T (absolute and relative) into
 /// subpaths.
-pub fn parse_path(d: &str) -> Result<Vec<Subpath>, String> {
+pub fn parse_path(d: &str) -> Result<Vec<Subpath>, SyntaxError> {
     let mut s = Scanner::new(d);
     let mut pen = PathPen::default();
     let mut command: Option<u8> = None;
@@ -112,13 +159,10 @@ pub fn parse_path(d: &str) -> Result<Vec<Subpath>, String> {
         let c = match (s.letter(), command) {
             (Some(letter), _) => letter,
             (None, Some(previous)) => repeated(previous)?,
-            (None, None) => return Err("path data must start with a moveto (M or m)".into()),
+            (None, None) => return Err(SyntaxError::NoMoveto),
         };
         if command.is_none() && !matches!(c, b'M' | b'm') {
-            return Err(format!(
-                "path data must start with a moveto (M or m), found '{}'",
-                c as char
-            ));
+            return Err(SyntaxError::FirstCommand { found: c as char });
         }
         pen.apply(c, &mut s)?;
         command = Some(c);
@@ -127,11 +171,11 @@ pub fn parse_path(d: &str) -> Result<Vec<Subpath>, String> {
 }
 
 /// The command a bare number repeats: a moveto's extra pairs are linetos.
-fn repeated(previous: u8) -> Result<u8, String> {
+fn repeated(previous: u8) -> Result<u8, SyntaxError> {
     match previous {
         b'M' => Ok(b'L'),
         b'm' => Ok(b'l'),
-        b'Z' | b'z' => Err("expected a command after 'z'".into()),
+        b'Z' | b'z' => Err(SyntaxError::NumbersAfterClose),
         other => Ok(other),
     }
 }
@@ -150,7 +194,7 @@ struct PathPen {
 }
 
 impl PathPen {
-    fn apply(&mut self, command: u8, s: &mut Scanner) -> Result<(), String> {
+    fn apply(&mut self, command: u8, s: &mut Scanner) -> Result<(), SyntaxError> {
         let relative = command.is_ascii_lowercase();
         let origin = if relative { self.at } else { DVec2::ZERO };
         let (last_cubic, last_quadratic) = (self.last_cubic.take(), self.last_quadratic.take());
@@ -200,18 +244,15 @@ impl PathPen {
                 self.quadratic_to(c, end);
             }
             b'A' => {
-                return Err(format!(
-                    "arc command '{}' is not supported (flatten arcs to line segments \
-                     or Bezier curves)",
-                    command as char
-                ))
+                return Err(SyntaxError::Arc {
+                    command: command as char,
+                })
             }
             _ => {
-                return Err(format!(
-                    "unknown command '{}' at character {}",
-                    command as char,
-                    s.position() - 1
-                ))
+                return Err(SyntaxError::UnknownCommand {
+                    command: command as char,
+                    at: s.position() - 1,
+                })
             }
         }
         Ok(())
@@ -267,14 +308,16 @@ impl PathPen {
 }
 
 /// A `points` list: x, y pairs.
-pub fn parse_points(text: &str) -> Result<Vec<DVec2>, String> {
+pub fn parse_points(text: &str) -> Result<Vec<DVec2>, SyntaxError> {
     let mut s = Scanner::new(text);
     let mut numbers = Vec::new();
     while s.peek().is_some() {
         numbers.push(s.number()?);
     }
     if numbers.len() % 2 == 1 {
-        return Err(format!("odd number of coordinates ({})", numbers.len()));
+        return Err(SyntaxError::OddCoordinates {
+            count: numbers.len(),
+        });
     }
     Ok(numbers
         .chunks_exact(2)
@@ -284,7 +327,7 @@ pub fn parse_points(text: &str) -> Result<Vec<DVec2>, String> {
 
 /// A `transform` list: matrix, translate, scale, rotate, skewX, skewY,
 /// applied right to left as SVG does.
-pub fn parse_transform(text: &str) -> Result<DAffine2, String> {
+pub fn parse_transform(text: &str) -> Result<DAffine2, SyntaxError> {
     let mut s = Scanner::new(text);
     let mut total = DAffine2::IDENTITY;
     while s.peek().is_some() {
@@ -296,10 +339,10 @@ pub fn parse_transform(text: &str) -> Result<DAffine2, String> {
         let name = &s.text[start..start + name_len];
         s.pos += name_len;
         if s.peek() != Some(b'(') {
-            return Err(format!(
-                "expected '(' after '{name}' at character {}",
-                s.position()
-            ));
+            return Err(SyntaxError::ExpectedOpen {
+                name: name.to_string(),
+                at: s.position(),
+            });
         }
         s.pos += 1;
         let mut args = Vec::new();
@@ -307,7 +350,9 @@ pub fn parse_transform(text: &str) -> Result<DAffine2, String> {
             args.push(s.number()?);
         }
         if s.peek().is_none() {
-            return Err(format!("missing ')' after '{name}('"));
+            return Err(SyntaxError::MissingClose {
+                name: name.to_string(),
+            });
         }
         s.pos += 1;
         total *= transform_function(name, &args)?;
@@ -315,36 +360,37 @@ pub fn parse_transform(text: &str) -> Result<DAffine2, String> {
     Ok(total)
 }
 
-fn transform_function(name: &str, args: &[f64]) -> Result<DAffine2, String> {
-    let arity = |allowed: &[usize]| -> Result<(), String> {
+fn transform_function(name: &str, args: &[f64]) -> Result<DAffine2, SyntaxError> {
+    let arity = |name: &'static str, allowed: &'static [usize]| {
         if allowed.contains(&args.len()) {
             Ok(())
         } else {
-            Err(format!(
-                "{name} takes {allowed:?} numbers, found {}",
-                args.len()
-            ))
+            Err(SyntaxError::Arity {
+                name,
+                allowed,
+                found: args.len(),
+            })
         }
     };
     match name {
         "matrix" => {
-            arity(&[6])?;
+            arity("matrix", &[6])?;
             Ok(DAffine2::from_cols_array(&[
                 args[0], args[1], args[2], args[3], args[4], args[5],
             ]))
         }
         "translate" => {
-            arity(&[1, 2])?;
+            arity("translate", &[1, 2])?;
             let ty = args.get(1).copied().unwrap_or(0.0);
             Ok(DAffine2::from_translation(DVec2::new(args[0], ty)))
         }
         "scale" => {
-            arity(&[1, 2])?;
+            arity("scale", &[1, 2])?;
             let sy = args.get(1).copied().unwrap_or(args[0]);
             Ok(DAffine2::from_scale(DVec2::new(args[0], sy)))
         }
         "rotate" => {
-            arity(&[1, 3])?;
+            arity("rotate", &[1, 3])?;
             let centre = if args.len() == 3 {
                 DVec2::new(args[1], args[2])
             } else {
@@ -355,7 +401,7 @@ fn transform_function(name: &str, args: &[f64]) -> Result<DAffine2, String> {
                 * DAffine2::from_translation(-centre))
         }
         "skewX" => {
-            arity(&[1])?;
+            arity("skewX", &[1])?;
             Ok(DAffine2::from_cols_array(&[
                 1.0,
                 0.0,
@@ -366,7 +412,7 @@ fn transform_function(name: &str, args: &[f64]) -> Result<DAffine2, String> {
             ]))
         }
         "skewY" => {
-            arity(&[1])?;
+            arity("skewY", &[1])?;
             Ok(DAffine2::from_cols_array(&[
                 1.0,
                 args[0].to_radians().tan(),
@@ -376,7 +422,9 @@ fn transform_function(name: &str, args: &[f64]) -> Result<DAffine2, String> {
                 0.0,
             ]))
         }
-        other => Err(format!("unknown transform function '{other}'")),
+        other => Err(SyntaxError::UnknownTransform {
+            name: other.to_string(),
+        }),
     }
 }
 
@@ -445,31 +493,60 @@ mod tests {
     fn path_errors() {
         assert!(parse_path("L1 1")
             .unwrap_err()
+            .to_string()
             .contains("must start with a moveto"));
         assert!(parse_path("M1 1 a1 1 0 0 1 2 2")
             .unwrap_err()
+            .to_string()
             .contains("arc command 'a'"));
         assert!(parse_path("M1 1 c1 1 2")
             .unwrap_err()
+            .to_string()
             .contains("expected a number"));
         assert!(parse_path("M1 1 L2")
             .unwrap_err()
+            .to_string()
             .contains("expected a number"));
         assert!(parse_path("M1 1 X")
             .unwrap_err()
+            .to_string()
             .contains("unknown command 'X'"));
-        assert!(parse_path("M1 1z 3").unwrap_err().contains("after 'z'"));
-        assert!(parse_path("M1e999 1").unwrap_err().contains("bad number"));
+        assert!(parse_path("M1 1z 3")
+            .unwrap_err()
+            .to_string()
+            .contains("after 'z'"));
+        assert!(parse_path("M1e999 1")
+            .unwrap_err()
+            .to_string()
+            .contains("bad number"));
+        assert_eq!(
+            parse_path("M1 1 X").unwrap_err(),
+            SyntaxError::UnknownCommand {
+                command: 'X',
+                at: 6
+            }
+        );
     }
 
     #[test]
     fn points_lists() {
         assert_eq!(parse_points(" 0,0 1,2 ").unwrap().len(), 2);
-        assert!(parse_points("0 0 1").unwrap_err().contains("odd number"));
+        assert!(parse_points("0 0 1")
+            .unwrap_err()
+            .to_string()
+            .contains("odd number"));
     }
 
     #[test]
     fn transforms_compose_like_svg() {
+        assert_eq!(
+            parse_transform("scale(1 2 3)").unwrap_err(),
+            SyntaxError::Arity {
+                name: "scale",
+                allowed: &[1, 2],
+                found: 3
+            }
+        );
         let t = parse_transform("translate(10, 5) scale(2) rotate(90)").unwrap();
         let p = t.transform_point2(DVec2::new(1.0, 0.0));
         assert!((p - DVec2::new(10.0, 7.0)).length() < 1e-12, "{p}");
@@ -477,12 +554,15 @@ mod tests {
         assert_eq!(m.transform_point2(DVec2::ZERO), DVec2::new(3.0, 4.0));
         assert!(parse_transform("scale(1 2 3)")
             .unwrap_err()
+            .to_string()
             .contains("scale takes"));
         assert!(parse_transform("spin(3)")
             .unwrap_err()
+            .to_string()
             .contains("unknown transform"));
         assert!(parse_transform("scale(1")
             .unwrap_err()
+            .to_string()
             .contains("missing ')'"));
     }
 }

@@ -24,7 +24,7 @@ use std::collections::BTreeMap;
 use glam::{DAffine2, DVec2};
 use roxmltree::{Document, Node, ParsingOptions};
 
-use super::path_data::{self, Subpath};
+use super::path_data::{self, Subpath, SyntaxError};
 use super::pattern::{Assignment, CreasePattern, PatternBuilder, PatternError};
 use super::planar::planarize;
 
@@ -80,6 +80,48 @@ pub fn parse_svg(text: &str) -> Result<SvgImport, PatternError> {
     reader.finish()
 }
 
+/// What is wrong with one element of an SVG file; [`parse_svg`] puts it in
+/// a [`PatternError`] at the element's line.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+enum ElementError {
+    /// The `transform` attribute cannot be read.
+    #[error("transform: {0}")]
+    Transform(SyntaxError),
+    /// The geometry of a drawn element cannot be read.
+    #[error("<{element}> {problem}")]
+    Shape {
+        /// The element's name (`path`, `rect`, ...).
+        element: String,
+        problem: ShapeError,
+    },
+    /// The opacity that sets the fold angle is not a number.
+    #[error("opacity: bad number '{text}'")]
+    Opacity { text: String },
+    /// The element's transform takes its points past the largest number.
+    #[error("coordinates overflow after the transform")]
+    Overflow,
+}
+
+/// What is wrong with the geometry attributes of a drawn element.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+enum ShapeError {
+    /// A path's `d`.
+    #[error("d: {0}")]
+    PathData(SyntaxError),
+    /// A polygon's or polyline's `points`.
+    #[error("points: {0}")]
+    Points(SyntaxError),
+    /// A coordinate or size attribute that is not a number.
+    #[error("{attribute}: bad length '{text}' (expected a number in user units)")]
+    Length {
+        attribute: &'static str,
+        text: String,
+    },
+    /// A rectangle of negative width or height.
+    #[error("has a negative size ({width} x {height})")]
+    NegativeSize { width: f64, height: f64 },
+}
+
 /// What a `<g>` passes on to its children.
 #[derive(Clone, Debug, Default)]
 struct Inherited<'a> {
@@ -117,7 +159,7 @@ impl Reader {
         inherited: &Inherited<'a>,
     ) -> Result<(), PatternError> {
         let line = doc.text_pos_at(node.range().start).row;
-        let located = |reason: String| PatternError::new(format!("line {line}"), reason);
+        let located = |e: ElementError| PatternError::new(format!("line {line}"), e.to_string());
         let local = Inherited {
             transform: inherited.transform * transform(node).map_err(located)?,
             stroke: property(css, node, "stroke").or(inherited.stroke),
@@ -129,9 +171,18 @@ impl Reader {
     }
 
     /// A drawn element: its segments, or a warning for an unknown colour.
-    fn drawn(&mut self, css: &Css, node: Node, line: u32, local: &Inherited) -> Result<(), String> {
-        let name = node.tag_name().name();
-        let Some(subpaths) = shape(node).map_err(|e| format!("<{name}> {e}"))? else {
+    fn drawn(
+        &mut self,
+        css: &Css,
+        node: Node,
+        line: u32,
+        local: &Inherited,
+    ) -> Result<(), ElementError> {
+        let Some(subpaths) = shape(node).map_err(|problem| ElementError::Shape {
+            element: node.tag_name().name().to_string(),
+            problem,
+        })?
+        else {
             return Ok(());
         };
         let assignment = match classify(local.stroke) {
@@ -159,7 +210,7 @@ impl Reader {
         transform: DAffine2,
         assignment: Assignment,
         fold_angle: Option<f64>,
-    ) -> Result<(), String> {
+    ) -> Result<(), ElementError> {
         let points: Vec<DVec2> = subpath
             .points
             .iter()
@@ -169,7 +220,7 @@ impl Reader {
             })
             .collect();
         if points.iter().any(|p| !p.is_finite()) {
-            return Err("coordinates overflow after the transform".into());
+            return Err(ElementError::Overflow);
         }
         let closing = subpath
             .closed
@@ -457,7 +508,7 @@ fn parse_hex(hex: &str) -> Option<[u8; 3]> {
 /// `opacity` attribute, else `opacity` style, else `stroke-opacity`
 /// attribute, then style, then the style sheets' `opacity` and
 /// `stroke-opacity`, else 1; clamped to [0, 1].
-fn opacity(css: &Css, node: Node) -> Result<f64, String> {
+fn opacity(css: &Css, node: Node) -> Result<f64, ElementError> {
     let value = node
         .attribute("opacity")
         .or_else(|| style_declaration(node, "opacity"))
@@ -475,21 +526,23 @@ fn opacity(css: &Css, node: Node) -> Result<f64, String> {
     };
     match number.parse::<f64>() {
         Ok(v) if v.is_finite() => Ok((v * scale).clamp(0.0, 1.0)),
-        _ => Err(format!("opacity: bad number '{text}'")),
+        _ => Err(ElementError::Opacity {
+            text: text.to_string(),
+        }),
     }
 }
 
 /// The element's own `transform` (identity when absent).
-fn transform(node: Node) -> Result<DAffine2, String> {
+fn transform(node: Node) -> Result<DAffine2, ElementError> {
     match node.attribute("transform") {
-        Some(text) => path_data::parse_transform(text).map_err(|e| format!("transform: {e}")),
+        Some(text) => path_data::parse_transform(text).map_err(ElementError::Transform),
         None => Ok(DAffine2::IDENTITY),
     }
 }
 
 /// The polylines a drawn element stands for; `None` for elements that draw
 /// no straight lines (text, animations, metadata, ...).
-fn shape(node: Node) -> Result<Option<Vec<Subpath>>, String> {
+fn shape(node: Node) -> Result<Option<Vec<Subpath>>, ShapeError> {
     let shape = match node.tag_name().name() {
         "line" => {
             let [x1, y1, x2, y2] = ["x1", "y1", "x2", "y2"].map(|a| length(node, a));
@@ -501,7 +554,7 @@ fn shape(node: Node) -> Result<Option<Vec<Subpath>>, String> {
         "rect" => rect(node)?,
         "polygon" | "polyline" => {
             let text = node.attribute("points").unwrap_or_default();
-            let points = path_data::parse_points(text).map_err(|e| format!("points: {e}"))?;
+            let points = path_data::parse_points(text).map_err(ShapeError::Points)?;
             vec![Subpath {
                 closed: node.tag_name().name() == "polygon" && points.len() > 2,
                 points,
@@ -509,7 +562,7 @@ fn shape(node: Node) -> Result<Option<Vec<Subpath>>, String> {
         }
         "path" => {
             let d = node.attribute("d").unwrap_or_default();
-            path_data::parse_path(d).map_err(|e| format!("d: {e}"))?
+            path_data::parse_path(d).map_err(ShapeError::PathData)?
         }
         _ => return Ok(None),
     };
@@ -518,11 +571,14 @@ fn shape(node: Node) -> Result<Option<Vec<Subpath>>, String> {
     ))
 }
 
-fn rect(node: Node) -> Result<Vec<Subpath>, String> {
+fn rect(node: Node) -> Result<Vec<Subpath>, ShapeError> {
     let [x, y, w, h] = ["x", "y", "width", "height"].map(|a| length(node, a));
     let (x, y, w, h) = (x?, y?, w?, h?);
     if w < 0.0 || h < 0.0 {
-        return Err(format!("has a negative size ({w} x {h})"));
+        return Err(ShapeError::NegativeSize {
+            width: w,
+            height: h,
+        });
     }
     if w == 0.0 || h == 0.0 {
         return Ok(Vec::new());
@@ -540,7 +596,7 @@ fn rect(node: Node) -> Result<Vec<Subpath>, String> {
 
 /// A coordinate attribute in user units (an optional `px` suffix); absent
 /// means 0.
-fn length(node: Node, name: &str) -> Result<f64, String> {
+fn length(node: Node, name: &'static str) -> Result<f64, ShapeError> {
     let Some(text) = node.attribute(name) else {
         return Ok(0.0);
     };
@@ -548,9 +604,10 @@ fn length(node: Node, name: &str) -> Result<f64, String> {
     let number = trimmed.strip_suffix("px").unwrap_or(trimmed);
     match number.parse::<f64>() {
         Ok(v) if v.is_finite() => Ok(v),
-        _ => Err(format!(
-            "{name}: bad length '{text}' (expected a number in user units)"
-        )),
+        _ => Err(ShapeError::Length {
+            attribute: name,
+            text: text.to_string(),
+        }),
     }
 }
 

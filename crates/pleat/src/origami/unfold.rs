@@ -178,15 +178,35 @@ pub(super) fn unfold(
     })
 }
 
-fn at_face(f: usize, reason: String) -> PatternError {
-    PatternError::new(format!("faces_vertices[{f}]"), reason)
+fn at_face(f: usize, reason: impl ToString) -> PatternError {
+    PatternError::new(format!("faces_vertices[{f}]"), reason.to_string())
+}
+
+/// Why a face of a folded form has no frame; [`unfold`] puts it in a
+/// [`PatternError`] at the face.
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+enum FaceError {
+    /// Fewer than three vertices.
+    #[error("a face needs 3 vertices, found {found}")]
+    TooFewVertices { found: usize },
+    /// Its vertices are (nearly) on one line or one point.
+    #[error("a face of no area")]
+    NoArea,
+    /// A vertex is off the plane of the others.
+    #[error("not flat: vertex {vertex} lies {off} off the face's plane")]
+    NotFlat {
+        /// The vertex, by its index in the file.
+        vertex: usize,
+        /// Its distance from the face's plane.
+        off: f64,
+    },
 }
 
 /// A face's frame, or why it has none (too few vertices, no area, not
 /// flat).
-fn face_frame(points: &[DVec3], face: &[usize], diameter: f64) -> Result<FaceFrame, String> {
+fn face_frame(points: &[DVec3], face: &[usize], diameter: f64) -> Result<FaceFrame, FaceError> {
     if face.len() < 3 {
-        return Err(format!("a face needs 3 vertices, found {}", face.len()));
+        return Err(FaceError::TooFewVertices { found: face.len() });
     }
     let corners: Vec<DVec3> = face.iter().map(|&v| points[v]).collect();
     let centroid = corners.iter().sum::<DVec3>() / corners.len() as f64;
@@ -195,7 +215,7 @@ fn face_frame(points: &[DVec3], face: &[usize], diameter: f64) -> Result<FaceFra
         .map(|k| (corners[k] - centroid).cross(corners[(k + 1) % corners.len()] - centroid))
         .sum();
     if area_vector.length() <= NO_AREA * diameter * diameter {
-        return Err("a face of no area".into());
+        return Err(FaceError::NoArea);
     }
     let normal = area_vector.normalize();
     let size = corners
@@ -208,10 +228,10 @@ fn face_frame(points: &[DVec3], face: &[usize], diameter: f64) -> Result<FaceFra
         .enumerate()
         .find(|(_, off)| *off > MISFIT * size)
     {
-        return Err(format!(
-            "not flat: vertex {} lies {off} off the face's plane",
-            face[k]
-        ));
+        return Err(FaceError::NotFlat {
+            vertex: face[k],
+            off,
+        });
     }
     let x = normal.any_orthonormal_vector();
     let y = normal.cross(x);
@@ -371,8 +391,7 @@ fn lay_out(
                 at_face(
                     f,
                     "no edge between two faces joins it to faces_vertices[0]: the folded \
-                     form is in pieces"
-                        .into(),
+                     form is in pieces",
                 )
             })
         })

@@ -2,13 +2,16 @@
 //! built or loaded, pins resolved to vertices, colliders placed.
 
 use super::{
-    BodySpec, ClothSpec, ColliderSpec, Corner, MeshSpec, MotionSpec, PatternMeshSpec, PinSpec,
-    Scene, SceneError, SceneErrors, SceneFiles, ShapeSpec, Side,
+    BodySpec, ClothSpec, ColliderSpec, Corner, FileError, MeshSpec, MotionSpec, PatternMeshSpec,
+    PinSpec, Scene, SceneError, SceneErrors, SceneFiles, ShapeSpec, Side,
 };
 use crate::backend::{Backend, CpuBackend};
 use crate::collide::rigid_body::{mesh_samples, sample_points};
-use crate::collide::{Collider, MassProperties, MeshCollider, Motion, RigidBody, SdfGrid, Shape};
-use crate::mesh::{obj::parse_obj, GridSpec, Mesh};
+use crate::collide::{
+    Collider, MassError, MassProperties, MeshCollider, Motion, RigidBody, SdfError, SdfGrid, Shape,
+};
+use crate::mesh::obj::{parse_obj, ObjError};
+use crate::mesh::{GridSpec, Mesh};
 use crate::metrics::intersections::count_self_intersections;
 use crate::model::{Model, Pin};
 use crate::origami::{builtin, parse_pattern, PatternError, Sheet, SheetOptions};
@@ -72,7 +75,7 @@ impl Scene {
                 errors.push(SceneError {
                     file: file.into(),
                     path: format!("cloths[{i}].{sub}"),
-                    reason,
+                    reason: reason.to_string(),
                 });
             }
         }
@@ -83,7 +86,7 @@ impl Scene {
                 Err((sub, reason)) => errors.push(SceneError {
                     file: file.into(),
                     path: format!("colliders[{i}].{sub}"),
-                    reason,
+                    reason: reason.to_string(),
                 }),
             }
         }
@@ -100,8 +103,56 @@ impl Scene {
     }
 }
 
+/// Why one cloth or collider of a valid scene cannot be built; its message
+/// becomes the [`SceneError`]'s reason, under the JSON path of the field.
+#[derive(Debug, thiserror::Error)]
+enum BuildError {
+    /// A scene's file could not be read.
+    #[error("{file}: {source}")]
+    File {
+        /// The file as [`SceneFiles::display`] names it.
+        file: String,
+        source: FileError,
+    },
+    /// A mesh file is not text.
+    #[error("{file}: not UTF-8 text")]
+    NotUtf8 {
+        /// The file as [`SceneFiles::display`] names it.
+        file: String,
+    },
+    /// A mesh file is not a valid OBJ mesh.
+    #[error(transparent)]
+    Obj(#[from] ObjError),
+    /// A crease pattern could not be read or triangulated.
+    #[error(transparent)]
+    Pattern(#[from] PatternError),
+    /// A distance field could not be baked.
+    #[error(transparent)]
+    Sdf(#[from] SdfError),
+    /// A dynamic collider could not be weighed.
+    #[error(transparent)]
+    Mass(#[from] MassError),
+    /// `stiffness_weights` does not give one weight a vertex.
+    #[error("has {given} weights, the mesh has {vertices} vertices")]
+    WeightCount { given: usize, vertices: usize },
+    /// Named corners or edges pin a mesh that is not a grid.
+    #[error("named corners and edges need a grid mesh; use indices")]
+    NamedPinsNeedGrid,
+    /// A pin's vertex index is past the mesh's vertices.
+    #[error("vertex {vertex} does not exist: the mesh has {vertices} vertices")]
+    NoSuchVertex { vertex: u32, vertices: usize },
+    /// A generated torus knot's tube meets itself.
+    #[error(
+        "the tube's mesh intersects itself ({pairs} pairs of triangles): use a thinner tube or more segments"
+    )]
+    TubeIntersects {
+        /// Pairs of triangles that intersect.
+        pairs: usize,
+    },
+}
+
 /// Multiplies the scene's per-vertex weights into the cloth just added.
-fn apply_stiffness_weights(model: &mut Model, cloth: &ClothSpec) -> Result<(), String> {
+fn apply_stiffness_weights(model: &mut Model, cloth: &ClothSpec) -> Result<(), BuildError> {
     let part = model.cloths.last_mut().expect("a cloth was just added");
     match cloth.stiffness_weights.len() {
         0 => Ok(()),
@@ -115,15 +166,15 @@ fn apply_stiffness_weights(model: &mut Model, cloth: &ClothSpec) -> Result<(), S
             }
             Ok(())
         }
-        n => Err(format!(
-            "has {n} weights, the mesh has {} vertices",
-            part.stiffness_weights.len()
-        )),
+        given => Err(BuildError::WeightCount {
+            given,
+            vertices: part.stiffness_weights.len(),
+        }),
     }
 }
 
 /// An error inside a cloth: the path below `cloths[i]` and the reason.
-type ClothError = (String, String);
+type ClothError = (String, BuildError);
 
 /// Builds one cloth of the scene (a mesh with pins, or a sheet of paper) into `model`.
 fn add_cloth(
@@ -134,8 +185,8 @@ fn add_cloth(
 ) -> Result<(), ClothError> {
     let (mesh, grid) = match &cloth.mesh {
         MeshSpec::Pattern(spec) => {
-            let sheet = pattern_sheet(spec, files)
-                .map_err(|e| ("mesh.pattern".to_string(), e.to_string()))?;
+            let sheet =
+                pattern_sheet(spec, files).map_err(|e| ("mesh.pattern".to_string(), e.into()))?;
             model.add_paper(name, &sheet, cloth.material, spec.stiffness);
             return Ok(());
         }
@@ -172,7 +223,7 @@ fn pattern_sheet(spec: &PatternMeshSpec, files: &dyn SceneFiles) -> Result<Sheet
             let name = files.display(path);
             let bytes = files
                 .read(path)
-                .map_err(|reason| PatternError::new("", reason).with_file(name.clone()))?;
+                .map_err(|e| PatternError::new("", e.to_string()).with_file(name.clone()))?;
             parse_pattern(&name, &bytes)?.0
         }
         (None, Some(name)) => builtin(name)
@@ -224,10 +275,7 @@ fn group_vertices(
         } else {
             "corners"
         };
-        let grid = grid.ok_or((
-            field.to_string(),
-            "named corners and edges need a grid mesh; use indices".to_string(),
-        ))?;
+        let grid = grid.ok_or((field.to_string(), BuildError::NamedPinsNeedGrid))?;
         out.extend(
             group
                 .corners
@@ -242,7 +290,10 @@ fn group_vertices(
         if i as usize >= n {
             return Err((
                 format!("indices[{k}]"),
-                format!("vertex {i} does not exist: the mesh has {n} vertices"),
+                BuildError::NoSuchVertex {
+                    vertex: i,
+                    vertices: n,
+                },
             ));
         }
         out.push(i);
@@ -277,7 +328,7 @@ fn motion(spec: &MotionSpec, default_pivot: Vec3) -> Motion {
 }
 
 /// An error inside a collider: the path below `colliders[i]` and the reason.
-type ColliderError = (String, String);
+type ColliderError = (String, BuildError);
 
 fn collider(spec: &ColliderSpec, files: &dyn SceneFiles) -> Result<Collider, ColliderError> {
     // Distance fields and generated shapes of a dynamic collider are weighed
@@ -323,7 +374,7 @@ fn collider(spec: &ColliderSpec, files: &dyn SceneFiles) -> Result<Collider, Col
             let mesh = placed_mesh(files, &s.path, s.scale, s.translate)
                 .map_err(|reason| ("shape.sdf.path".to_string(), reason))?;
             let grid = SdfGrid::bake(&mesh, s.cell_size)
-                .map_err(|reason| ("shape.sdf.cell_size".to_string(), reason))?;
+                .map_err(|e| ("shape.sdf.cell_size".to_string(), e.into()))?;
             let centre = mesh_centre(&mesh);
             baked_from = Some(mesh);
             (Shape::Sdf(Arc::new(grid)), centre)
@@ -334,13 +385,11 @@ fn collider(spec: &ColliderSpec, files: &dyn SceneFiles) -> Result<Collider, Col
             if crossings > 0 {
                 return Err((
                     "shape.torus_knot.tube".to_string(),
-                    format!(
-                        "the tube's mesh intersects itself ({crossings} pairs of triangles): use a thinner tube or more segments"
-                    ),
+                    BuildError::TubeIntersects { pairs: crossings },
                 ));
             }
             let shape = generated_shape(&mesh, k.sdf_cell_size)
-                .map_err(|reason| ("shape.torus_knot.sdf_cell_size".to_string(), reason))?;
+                .map_err(|e| ("shape.torus_knot.sdf_cell_size".to_string(), e.into()))?;
             if spec.body.is_some() {
                 baked_from = Some(MeshCollider::new(&mesh));
             }
@@ -349,7 +398,7 @@ fn collider(spec: &ColliderSpec, files: &dyn SceneFiles) -> Result<Collider, Col
         ShapeSpec::Icosphere(s) => {
             let mesh = s.icosphere().mesh();
             let shape = generated_shape(&mesh, s.sdf_cell_size)
-                .map_err(|reason| ("shape.icosphere.sdf_cell_size".to_string(), reason))?;
+                .map_err(|e| ("shape.icosphere.sdf_cell_size".to_string(), e.into()))?;
             if spec.body.is_some() {
                 baked_from = Some(MeshCollider::new(&mesh));
             }
@@ -359,7 +408,7 @@ fn collider(spec: &ColliderSpec, files: &dyn SceneFiles) -> Result<Collider, Col
     let body = match &spec.body {
         Some(b) => Some(
             dynamic_body(&shape, baked_from.as_ref(), b)
-                .map_err(|reason| ("body".to_string(), reason))?,
+                .map_err(|e| ("body".to_string(), e.into()))?,
         ),
         None => None,
     };
@@ -377,7 +426,7 @@ fn dynamic_body(
     shape: &Shape,
     baked_from: Option<&MeshCollider>,
     spec: &BodySpec,
-) -> Result<RigidBody, String> {
+) -> Result<RigidBody, MassError> {
     let density = spec.density.unwrap_or(1.0);
     let (props, samples) = match baked_from {
         Some(mesh) => (
@@ -400,13 +449,16 @@ fn dynamic_body(
 }
 
 /// The OBJ mesh at `path` among the scene's `files`.
-fn read_obj(files: &dyn SceneFiles, path: &str) -> Result<Mesh, String> {
-    let name = files.display(path);
-    let bytes = files
-        .read(path)
-        .map_err(|reason| format!("{name}: {reason}"))?;
-    let text = String::from_utf8(bytes).map_err(|_| format!("{name}: not UTF-8 text"))?;
-    parse_obj(&text, &name).map_err(|e| e.to_string())
+fn read_obj(files: &dyn SceneFiles, path: &str) -> Result<Mesh, BuildError> {
+    let file = files.display(path);
+    let bytes = match files.read(path) {
+        Ok(bytes) => bytes,
+        Err(source) => return Err(BuildError::File { file, source }),
+    };
+    let Ok(text) = String::from_utf8(bytes) else {
+        return Err(BuildError::NotUtf8 { file });
+    };
+    Ok(parse_obj(&text, &file)?)
 }
 
 /// A collider mesh read from `path` among the scene's `files` and placed
@@ -416,7 +468,7 @@ fn placed_mesh(
     path: &str,
     scale: f32,
     translate: Vec3,
-) -> Result<MeshCollider, String> {
+) -> Result<MeshCollider, BuildError> {
     let mut mesh = read_obj(files, path)?;
     for p in &mut mesh.positions {
         *p = *p * scale + translate;
@@ -426,7 +478,7 @@ fn placed_mesh(
 
 /// A generated mesh as a collider: its BVH, or a distance field baked from
 /// it with cells of `sdf_cell_size`.
-fn generated_shape(mesh: &Mesh, sdf_cell_size: Option<f32>) -> Result<Shape, String> {
+fn generated_shape(mesh: &Mesh, sdf_cell_size: Option<f32>) -> Result<Shape, SdfError> {
     let collider = MeshCollider::new(mesh);
     Ok(match sdf_cell_size {
         None => Shape::Mesh(Arc::new(collider)),

@@ -6,10 +6,22 @@
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
+/// Why a file a scene names cannot be read.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum FileError {
+    /// The file system refused the file (missing, a folder, no permission).
+    #[error("cannot open the file: {0}")]
+    Io(#[from] std::io::Error),
+    /// No file held in memory answers to the path.
+    #[error("not found: add this file (drop it beside the scene)")]
+    NotInMemory,
+}
+
 /// Reads the files a scene names by the path written in it.
 pub trait SceneFiles {
     /// The bytes of `path`, or why they cannot be had.
-    fn read(&self, path: &str) -> Result<Vec<u8>, String>;
+    fn read(&self, path: &str) -> Result<Vec<u8>, FileError>;
     /// How `path` is named in errors (the full path on disk).
     fn display(&self, path: &str) -> String {
         path.to_string()
@@ -27,8 +39,8 @@ impl Folder<'_> {
 }
 
 impl SceneFiles for Folder<'_> {
-    fn read(&self, path: &str) -> Result<Vec<u8>, String> {
-        std::fs::read(self.join(path)).map_err(|e| format!("cannot open the file: {e}"))
+    fn read(&self, path: &str) -> Result<Vec<u8>, FileError> {
+        Ok(std::fs::read(self.join(path))?)
     }
 
     fn display(&self, path: &str) -> String {
@@ -68,10 +80,8 @@ impl InMemory {
 }
 
 impl SceneFiles for InMemory {
-    fn read(&self, path: &str) -> Result<Vec<u8>, String> {
-        self.find(path)
-            .cloned()
-            .ok_or_else(|| "not found: add this file (drop it beside the scene)".to_string())
+    fn read(&self, path: &str) -> Result<Vec<u8>, FileError> {
+        self.find(path).cloned().ok_or(FileError::NotInMemory)
     }
 }
 
@@ -88,16 +98,16 @@ mod tests {
         assert_eq!(files.read("meshes/teapot.obj").unwrap(), b"v 1 1 1");
         assert_eq!(files.read("teapot.obj").unwrap(), b"v 1 1 1");
         let missing = files.read("suzanne.obj").unwrap_err();
-        assert!(missing.contains("not found"), "{missing}");
+        assert!(matches!(missing, FileError::NotInMemory), "{missing}");
+        assert!(missing.to_string().contains("not found"), "{missing}");
     }
 
     #[test]
     fn folder_names_the_full_path() {
         let folder = Folder(Path::new("/nonexistent"));
         assert_eq!(folder.display("a.obj"), "/nonexistent/a.obj");
-        assert!(folder
-            .read("a.obj")
-            .unwrap_err()
-            .starts_with("cannot open the file"));
+        let e = folder.read("a.obj").unwrap_err();
+        assert!(matches!(&e, FileError::Io(io) if io.kind() == std::io::ErrorKind::NotFound));
+        assert!(e.to_string().starts_with("cannot open the file"), "{e}");
     }
 }

@@ -13,7 +13,7 @@ mod spec;
 mod validate;
 
 pub use error::{SceneError, SceneErrors};
-pub use files::{Folder, InMemory, SceneFiles};
+pub use files::{FileError, Folder, InMemory, SceneFiles};
 pub use spec::*;
 
 use std::path::Path;
