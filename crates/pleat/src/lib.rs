@@ -54,6 +54,7 @@ pub mod math;
 pub mod mesh;
 pub mod metrics;
 pub mod model;
+pub mod motion;
 pub mod origami;
 pub mod paper;
 pub mod particles;

@@ -2,9 +2,9 @@
 //! space, with rest shapes, masses, topology, materials and pins. Solvers
 //! build their constraints from it.
 
-use crate::collide::Motion;
 use crate::material::Material;
 use crate::mesh::{lumped_masses, Mesh, Topology};
+use crate::motion::Motion;
 use crate::paper::Paper;
 use glam::Vec3;
 use std::ops::Range;

@@ -15,8 +15,8 @@
 //! threshold. The same figure lets solvers be compared on one scale
 //! whatever their elastic model.
 
-use crate::collide::Motion;
 use crate::model::{Model, RestEdge};
+use crate::motion::Motion;
 use crate::particles::Particles;
 use crate::world::World;
 use glam::Vec3;

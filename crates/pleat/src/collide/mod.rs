@@ -10,15 +10,14 @@ pub mod ccd;
 mod contact;
 pub mod hash_grid;
 pub mod mesh_collider;
-mod motion;
 pub mod rigid_body;
 pub mod sdf;
 pub mod self_contact;
 mod shape;
 
+pub use crate::motion::Motion;
 pub use contact::{project_contacts, ColliderPose};
 pub use mesh_collider::MeshCollider;
-pub use motion::Motion;
 pub use rigid_body::{MassError, MassProperties, RigidBody};
 pub use sdf::{SdfError, SdfGrid};
 pub use self_contact::{SelfCollision, SelfContactStats, SelfContacts};

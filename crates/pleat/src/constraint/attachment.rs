@@ -3,11 +3,12 @@
 //! With compliance zero the particle becomes kinematic (inverse mass zero)
 //! and the solver moves it onto the target every substep; with a positive
 //! compliance it is pulled there as a soft XPBD constraint. Targets move on
-//! a [`crate::collide::Motion`] script.
+//! a [`crate::motion::Motion`] script.
 
+use super::positions::Positions;
+use super::projection::{sealed::Sealed, Constraint, Substep};
 use super::xpbd::{lagrange_update, position_step};
-use super::{Constraint, Positions, Substep};
-use crate::collide::Motion;
+use crate::motion::Motion;
 use glam::Vec3;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -42,6 +43,8 @@ impl Attachment {
         self.compliance == 0.0
     }
 }
+
+impl Sealed for Attachment {}
 
 impl Constraint for Attachment {
     fn particles(&self) -> &[u32] {
@@ -108,7 +111,7 @@ mod tests {
         let mut x = vec![Vec3::new(1.0, 0.0, 0.0)];
         let mut lambda = 0.0;
         let step = Substep::as_built(3600.0, 0.0);
-        crate::constraint::project_once(&a, &mut lambda, &mut x, &[1.0], &step);
+        crate::constraint::projection::project_once(&a, &mut lambda, &mut x, &[1.0], &step);
         assert!(x[0].x > 0.0 && x[0].x < 1.0, "{x:?}");
     }
 

@@ -11,8 +11,9 @@
 //! where `s_k = (x_k - x0) . e / |e|^2` locates the wing's foot on the edge.
 //! Origami hinges use the same angle with a moving target.
 
+use super::positions::Positions;
+use super::projection::{sealed::Sealed, Constraint, Substep};
 use super::xpbd::{alpha_tilde, project};
-use super::{Constraint, Positions, Substep};
 use glam::{Vec3, Vec3A};
 use std::f32::consts::{PI, TAU};
 
@@ -114,6 +115,8 @@ impl DihedralBending {
     }
 }
 
+impl Sealed for DihedralBending {}
+
 impl Constraint for DihedralBending {
     fn particles(&self) -> &[u32] {
         &self.v
@@ -213,7 +216,7 @@ pub(crate) mod tests {
         let mut lambda = 0.0;
         let step = Substep::as_built(1.0, 0.0);
         for _ in 0..20 {
-            crate::constraint::project_once(&c, &mut lambda, &mut x, &w, &step);
+            crate::constraint::projection::project_once(&c, &mut lambda, &mut x, &w, &step);
         }
         let (phi, _) = dihedral_angle([x[0], x[1], x[2], x[3]]).unwrap();
         assert!((phi - 0.2).abs() < 1e-3, "{phi}");

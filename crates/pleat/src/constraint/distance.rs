@@ -3,8 +3,9 @@
 //! limit (Provot 1995), a hard bound `|C| <= max_stretch` on top of the
 //! compliant constraint, so that a soft edge still cannot stretch far.
 
+use super::positions::Positions;
+use super::projection::{sealed::Sealed, Constraint, Substep};
 use super::xpbd::{alpha_tilde, lagrange_update, position_step};
-use super::{Constraint, Positions, Substep};
 use glam::Vec3;
 
 #[repr(C)]
@@ -90,6 +91,8 @@ impl DistanceConstraint {
     }
 }
 
+impl Sealed for DistanceConstraint {}
+
 impl Constraint for DistanceConstraint {
     fn particles(&self) -> &[u32] {
         &self.v
@@ -122,7 +125,7 @@ impl Constraint for DistanceConstraint {
 mod tests {
     use super::*;
     use crate::constraint::bending::tests::finite_difference;
-    use crate::constraint::project_once;
+    use crate::constraint::projection::project_once;
 
     #[test]
     fn gradient_matches_finite_differences() {

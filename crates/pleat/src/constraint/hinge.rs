@@ -29,8 +29,9 @@
 //! target 0) stay linear: they are paper's bending, not creases.
 
 use super::bending::dihedral_angle_simd;
+use super::positions::Positions;
+use super::projection::{sealed::Sealed, Constraint, FoldDrive, Substep};
 use super::xpbd::{alpha_tilde, project};
-use super::{Constraint, Positions, Substep};
 use glam::{Vec3, Vec3A};
 use std::f32::consts::{PI, TAU};
 
@@ -66,19 +67,6 @@ pub struct OrigamiHinge {
     /// Entry of the live compliance table this constraint's compliance is
     /// a factor of ([`super::compliances`]; slot 0: the compliance as built).
     pub slot: u32,
-}
-
-/// The fold's drive at a step, the same for every hinge: what the caller
-/// sets from frame to frame, read by each projection.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct FoldDrive {
-    /// The fold progress `c` in `[0, 1]`: driven creases go to `c` times
-    /// their full angle.
-    pub progress: f32,
-    /// Whether the progress is held (unmoved since the last frame): a
-    /// driven crease is then a stiffening spring (see the module
-    /// documentation).
-    pub held: bool,
 }
 
 impl OrigamiHinge {
@@ -140,6 +128,8 @@ impl OrigamiHinge {
     }
 }
 
+impl Sealed for OrigamiHinge {}
+
 impl Constraint for OrigamiHinge {
     fn particles(&self) -> &[u32] {
         &self.v
@@ -183,7 +173,7 @@ pub fn stiffened_error(e: f32) -> (f32, f32) {
 mod tests {
     use super::*;
     use crate::constraint::bending::tests::finite_difference;
-    use crate::constraint::project_once;
+    use crate::constraint::projection::project_once;
 
     /// Edge along x; the first wing lifted by `fold` radians about it, the
     /// second wing flat: the valley fold angle is `fold`.

@@ -10,8 +10,9 @@
 //! and its gradient `grad_i C = K_i b / (|b| |e_rest|)` costs no more than a
 //! distance constraint: no trigonometry, no cross products.
 
+use super::positions::Positions;
+use super::projection::{sealed::Sealed, Constraint, Substep};
 use super::xpbd::{alpha_tilde, lagrange_update, position_step};
-use super::{Constraint, Positions, Substep};
 use glam::{Vec3, Vec3A};
 
 /// Folds below this (radians) are left alone: their direction is round-off.
@@ -62,6 +63,8 @@ impl IsometricBending {
         (c > FLAT_ENOUGH).then(|| (c, b / c))
     }
 }
+
+impl Sealed for IsometricBending {}
 
 impl Constraint for IsometricBending {
     fn particles(&self) -> &[u32] {

@@ -9,7 +9,8 @@
 //! particle moves `stiffness * (g_i - x_i)`, with the stiffness in [0, 1].
 //! Pinned particles act as very heavy ones, so the shape turns about them.
 
-use super::{Constraint, Positions, Substep};
+use super::positions::Positions;
+use super::projection::{sealed::Sealed, Constraint, Substep};
 use crate::math::polar_rotation;
 use glam::{Mat3, Vec3};
 
@@ -82,6 +83,8 @@ fn weighted_centroid<const N: usize>(x: &[Vec3; N], weights: &[f32; N]) -> Vec3 
     x.iter().zip(weights).map(|(x, w)| *x * *w).sum()
 }
 
+impl<const N: usize> Sealed for ShapeMatching<N> {}
+
 impl<const N: usize> Constraint for ShapeMatching<N> {
     fn particles(&self) -> &[u32] {
         &self.v
@@ -106,7 +109,13 @@ mod tests {
     use super::*;
 
     fn project<const N: usize>(c: &ShapeMatching<N>, x: &mut [Vec3], inv_mass: &[f32]) {
-        crate::constraint::project_once(c, &mut 0.0, x, inv_mass, &Substep::as_built(0.0, 0.0));
+        crate::constraint::projection::project_once(
+            c,
+            &mut 0.0,
+            x,
+            inv_mass,
+            &Substep::as_built(0.0, 0.0),
+        );
     }
 
     fn distances(x: &[Vec3]) -> Vec<f32> {

@@ -3,7 +3,8 @@
 //! `C = |x - x_pin| - max_length <= 0`. They stop the stretch that builds up
 //! far from the pins when a few iterations cannot propagate it.
 
-use super::{Constraint, Positions, Substep};
+use super::positions::Positions;
+use super::projection::{sealed::Sealed, Constraint, Substep};
 use glam::Vec3;
 use std::ops::Range;
 
@@ -46,6 +47,8 @@ impl Tether {
     }
 }
 
+impl Sealed for Tether {}
+
 impl Constraint for Tether {
     fn particles(&self) -> &[u32] {
         &self.particle
@@ -82,7 +85,7 @@ mod tests {
         ];
         let step = Substep::as_built(1.0, 0.0);
         for t in &tethers {
-            crate::constraint::project_once(t, &mut 0.0, &mut x, &inv_mass, &step);
+            crate::constraint::projection::project_once(t, &mut 0.0, &mut x, &inv_mass, &step);
         }
         assert!(
             (x[1].x - 1.0).abs() < 1e-6,

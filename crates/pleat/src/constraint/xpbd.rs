@@ -14,7 +14,7 @@
 //! (pleat-gpu's shader prelude) is the same arithmetic in the same order.
 
 use super::positions::Positions;
-use super::Substep;
+use super::projection::Substep;
 use glam::{Vec3, Vec3A};
 
 /// `alpha~ = alpha / dt^2` for a constraint whose compliance is

@@ -78,10 +78,10 @@ pub fn skip_one_pairs(cloth: &ClothPart) -> Vec<[u32; 2]> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::collide::Motion;
     use crate::material::Material;
     use crate::mesh::GridOrientation;
     use crate::model::{Model, Pin};
+    use crate::motion::Motion;
 
     fn hanging(n: usize, gradient: f32) -> Model {
         let mesh = GridSpec {
