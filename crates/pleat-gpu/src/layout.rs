@@ -57,8 +57,8 @@ fn assert_layout(rust: &str, wgsl: &str, size: usize, members: &[(String, usize)
 /// fields are listed in order: `field` mirrors the WGSL member of the same
 /// name, `field => ["m0", "m1"]` an array spelled as consecutive WGSL
 /// members. The list is also a struct pattern, so a Rust field left out of
-/// it (added on the Rust side alone) stops the build, and a WGSL member
-/// added alone fails the comparison.
+/// it (added on the Rust side alone) stops the build (rustc: "pattern
+/// requires `..`"), and a WGSL member added alone fails the comparison.
 macro_rules! assert_mirrors {
     ($rust:ident as $wgsl:literal { $($field:ident $(=> [$($member:literal),+])?),+ $(,)? }) => {{
         let value: $rust = bytemuck::Zeroable::zeroed();

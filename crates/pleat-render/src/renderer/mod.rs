@@ -850,10 +850,66 @@ impl Renderer {
 mod tests {
     use super::*;
 
+    /// The WGSL struct `name` of `source`: its size as naga lays it out,
+    /// and its members' names and offsets.
+    fn wgsl_struct(source: &str, name: &str) -> (usize, Vec<(String, usize)>) {
+        let module = naga::front::wgsl::parse_str(source).expect("parses");
+        let mut layouter = naga::proc::Layouter::default();
+        layouter.update(module.to_ctx()).expect("naga lays it out");
+        let (handle, ty) = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("no struct {name}"));
+        let naga::TypeInner::Struct { members, .. } = &ty.inner else {
+            panic!("{name} is not a struct");
+        };
+        let members = members.iter().map(|m| {
+            let name = m.name.clone().unwrap_or_default();
+            (name, m.offset as usize)
+        });
+        (layouter[handle].size as usize, members.collect())
+    }
+
+    /// Globals has the size and field offsets naga computes for
+    /// common.wgsl's Globals. The pattern lists every Rust field, so one
+    /// added on the Rust side alone stops the build; one added in WGSL
+    /// alone fails the comparison.
     #[test]
     fn globals_match_the_wgsl_layout() {
-        // Three matrices, eight vec4s.
-        assert_eq!(std::mem::size_of::<Globals>(), 3 * 64 + 8 * 16);
+        macro_rules! fields {
+            ($($field:ident),+) => {{
+                let Globals { $($field: _),+ } = Globals::zeroed();
+                vec![$((stringify!($field).to_string(), std::mem::offset_of!(Globals, $field))),+]
+            }};
+        }
+        let rust = fields!(
+            view_proj,
+            light_view_proj,
+            inv_view_proj,
+            camera_position,
+            light_direction,
+            light_color,
+            front_color,
+            back_color,
+            material,
+            misc,
+            mode
+        );
+        let (size, wgsl) = wgsl_struct(crate::shaders::COMMON, "Globals");
+        assert_eq!(
+            wgsl, rust,
+            "Globals: WGSL (left) and Rust (right) members and offsets"
+        );
+        assert_eq!(
+            size,
+            std::mem::size_of::<Globals>(),
+            "Globals: WGSL and Rust sizes"
+        );
+        // The normals pass's uniform is the particle count in a [u32; 4].
+        let (size, wgsl) = wgsl_struct(crate::shaders::NORMALS, "Counts");
+        let counts = vec![("counts".to_string(), 0)];
+        assert_eq!((size, wgsl), (std::mem::size_of::<[u32; 4]>(), counts));
     }
 
     #[test]
