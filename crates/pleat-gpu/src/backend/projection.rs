@@ -70,41 +70,31 @@ pub(super) fn xpbd_projection(
     let c = XpbdConstraints::new(model);
     let (soft_kind, soft_pins) = soft_attachments(context, table, &c.soft_attachments, hard_pins)?;
     let kinds = vec![
-        xpbd_kind(
-            context,
-            table,
-            (ConstraintKind::Hinge, "hinges"),
-            &c.hinges,
-            c.hinges.items(),
-        )?,
-        xpbd_kind(
+        as_is(context, table, (ConstraintKind::Hinge, "hinges"), &c.hinges)?,
+        as_is(
             context,
             table,
             (ConstraintKind::Distance, "distance constraints"),
             &c.distance,
-            c.distance.items(),
         )?,
-        xpbd_kind(
+        as_is(
             context,
             table,
             (ConstraintKind::Bending, "bending"),
             &c.bending,
-            c.bending.items(),
         )?,
-        xpbd_kind(
+        as_is(
             context,
             table,
             (ConstraintKind::Isometric, "isometric bending"),
             &c.isometric,
-            c.isometric.items(),
         )?,
         soft_kind,
-        xpbd_kind(
+        as_is(
             context,
             table,
             (ConstraintKind::Tether, "tethers"),
             &c.tethers,
-            c.tethers.items(),
         )?,
     ];
     Ok(Projection {
@@ -192,6 +182,16 @@ fn soft_attachments(
         &gpu,
     )?;
     Ok((kind, set.items().to_vec()))
+}
+
+/// An XPBD constraint kind whose kernel reads the core's items as they are.
+fn as_is<C: Pod>(
+    context: &GpuContext,
+    table: &mut RangeTable,
+    kind: (ConstraintKind, &str),
+    set: &ColoredConstraints<C>,
+) -> Result<ConstraintBuffers, GpuError> {
+    xpbd_kind(context, table, kind, set, set.items())
 }
 
 /// One XPBD constraint kind on the GPU: its items as the kernel reads
