@@ -1,6 +1,7 @@
 //! The `pleat` command: headless runs, pictures, checks and benchmarks of
 //! cloth and origami scenes (see DESIGN.md section 5 for the contracts).
 
+mod advice;
 mod bench;
 mod check;
 mod compare;
@@ -119,9 +120,9 @@ fn backend_for(
     if backend != "gpu" {
         return Ok(Box::new(CpuBackend::new(model, settings)));
     }
-    let context = pleat_gpu::GpuContext::new().map_err(|e| e.to_string())?;
+    let context = pleat_gpu::GpuContext::new().map_err(advice::gpu_error)?;
     let (gpu, notes) =
-        pleat_gpu::GpuBackend::new(&context, model, world, settings).map_err(|e| e.to_string())?;
+        pleat_gpu::GpuBackend::new(&context, model, world, settings).map_err(advice::gpu_error)?;
     for note in notes {
         eprintln!("note: {note}");
     }

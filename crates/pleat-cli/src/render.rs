@@ -2,6 +2,7 @@
 //! frame (`frame_00000.png`, ...) and one animated GIF (`anim.gif`), with
 //! report.json beside them. `pleat fold --render` draws a fold the same way.
 
+use crate::advice::render_error;
 use crate::output::FrameSink;
 use crate::report::Report;
 use crate::run::{load, rayon_threads, simulate};
@@ -150,7 +151,7 @@ impl Pictures {
                 (c.device.clone(), c.queue.clone(), c.adapter.clone())
             }
             None => {
-                let headless = headless_device().map_err(|e| e.to_string())?;
+                let headless = headless_device().map_err(render_error)?;
                 let adapter = headless.describe();
                 let Headless { device, queue, .. } = headless;
                 (device, queue, adapter)
@@ -158,8 +159,8 @@ impl Pictures {
         };
         std::fs::create_dir_all(dir)
             .map_err(|e| format!("{}: cannot create the folder: {e}", dir.display()))?;
-        let renderer = Renderer::new(device, queue, &sim.model, &sim.world, settings)
-            .map_err(|e| e.to_string())?;
+        let renderer =
+            Renderer::new(device, queue, &sim.model, &sim.world, settings).map_err(render_error)?;
         let gif =
             GifWriter::create(&dir.join("anim.gif"), frame_seconds).map_err(|e| e.to_string())?;
         Ok(Pictures {

@@ -3,34 +3,6 @@
 // the substep. Shapes: plane, sphere, box, capsule and distance fields on a
 // grid (meshes are baked into one before upload).
 
-struct Collider {
-    kind: u32,
-    sdf_offset: u32,
-    static_friction: f32,
-    kinetic_friction: f32,
-    // Plane: point, normal. Sphere: centre, w radius. Box: centre, half
-    // extents, rotation (x, y, z, w). Capsule: a with w radius, b.
-    // Distance field: origin with w cell size, dims in `dims`.
-    a: vec4<f32>,
-    b: vec4<f32>,
-    c: vec4<f32>,
-    dims: vec4<u32>,
-}
-
-// Rows of the 3 x 4 matrices of an affine map.
-struct Affine {
-    r0: vec4<f32>,
-    r1: vec4<f32>,
-    r2: vec4<f32>,
-}
-
-struct Pose {
-    start: Affine,
-    end: Affine,
-    start_inverse: Affine,
-    end_inverse: Affine,
-}
-
 @group(1) @binding(0) var<storage, read_write> colliders: array<Collider>;
 @group(1) @binding(1) var<storage, read_write> poses: array<Pose>;
 @group(1) @binding(2) var<storage, read_write> sdf_values: array<f32>;

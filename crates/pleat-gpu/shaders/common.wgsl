@@ -1,54 +1,6 @@
-// Shared by every kernel: the particle state (group 0) and helpers.
+// Shared by every kernel, after structs.wgsl: the particle state (group 0)
+// and helpers.
 // Positions carry the inverse mass in w (zero for pinned particles).
-
-struct Params {
-    gravity: vec3<f32>,
-    dt: f32,
-    wind_velocity: vec3<f32>,
-    inv_dt2: f32,
-    t: f32,
-    keep: f32,
-    progress: f32,
-    substep: u32,
-    particle_count: u32,
-    triangle_count: u32,
-    pin_count: u32,
-    collider_count: u32,
-    wind_on: u32,
-    drag: f32,
-    lift: f32,
-    air_density: f32,
-    turbulence: f32,
-    turbulence_scale: f32,
-    turbulence_frequency: f32,
-    grab_particle: u32,
-    grab_target: vec3<f32>,
-    grab_compliance: f32,
-    // Jacobi PBD's omega.
-    relaxation: f32,
-    // Self-contact: hash grid cell size, distance kept between layers,
-    // buckets of the hash table (a power of two).
-    contact_cell: f32,
-    contact_thickness: f32,
-    contact_buckets: u32,
-    // Coulomb friction between layers.
-    contact_static: f32,
-    contact_kinetic: f32,
-    // 1 while the fold progress is held: driven creases stiffen.
-    fold_held: u32,
-    // Always 0, unknown to the compiler (momentum.wgsl).
-    opaque_zero: u32,
-    pad0: u32,
-    pad1: u32,
-    pad2: u32,
-    pad3: u32,
-}
-
-// The slice of a constraint array one dispatch works on (one colour).
-struct Range {
-    first: u32,
-    count: u32,
-}
 
 @group(0) @binding(0) var<storage, read_write> pos: array<vec4<f32>>;
 @group(0) @binding(1) var<storage, read_write> prev: array<vec4<f32>>;
@@ -57,6 +9,9 @@ struct Range {
 // The live compliance table (crate::constraint::compliances), four slots a
 // vector; slot 0 is 1.
 @group(0) @binding(4) var<uniform> compliances: array<vec4<f32>, 256>;
+// The slice of its array a dispatch works on (the kernel layout's dynamic
+// uniform; kernels that need none leave it unread).
+@group(1) @binding(4) var<uniform> range: Range;
 
 const WORKGROUP: u32 = 256u;
 const PI: f32 = 3.14159265358979;
@@ -64,10 +19,32 @@ const TAU: f32 = 6.28318530717959;
 // The largest magnitude taken as finite: just under f32::MAX, which naga
 // writes back out as a decimal that WebGPU (Tint) refuses as out of range.
 const MAX_FINITE: f32 = 3.4e38;
+// No index.
+const NONE: u32 = 0xffffffffu;
+
+// The builtins of a compute invocation, as one entry-point parameter.
+struct Invocation {
+    @builtin(global_invocation_id) gid: vec3<u32>,
+    @builtin(local_invocation_id) lid: vec3<u32>,
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+}
 
 // Flat invocation index of a dispatch that may spread over two dimensions.
 fn flat_index(gid: vec3<u32>, groups: vec3<u32>) -> u32 {
     return gid.x + gid.y * groups.x * WORKGROUP;
+}
+
+// The index in the whole array of this invocation's item of the dispatch's
+// range, or NONE past the range's end.
+fn range_item(gid: vec3<u32>, groups: vec3<u32>) -> u32 {
+    let k = flat_index(gid, groups);
+    return select(NONE, range.first + k, k < range.count);
+}
+
+// Flat index of an invocation's workgroup (a block of a reduction).
+fn block_index(at: Invocation) -> u32 {
+    return at.wid.x + at.wid.y * at.groups.x;
 }
 
 fn position(i: u32) -> vec3<f32> {
@@ -151,6 +128,25 @@ fn dihedral_angle(p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, p3: vec3<f32>) ->
     return r;
 }
 
+// The XPBD multiplier update (crate::constraint::xpbd::lagrange_update):
+// dlambda = (-c - alpha~ lambda) / (sum w |grad C|^2 + alpha~) for a
+// constraint of value c, weighted gradient norm sum w |grad C|^2 and alpha~;
+// the caller adds it to lambda and moves the particles by it. Zero where the
+// denominator is not positive (nothing can move): a step of zero moves
+// nothing and leaves lambda as it was.
+fn lagrange_update(c: f32, weighted_gradient_norm: f32, alpha_tilde: f32, lambda: f32) -> f32 {
+    let denominator = weighted_gradient_norm + alpha_tilde;
+    if denominator <= 1.17549435e-38 {
+        return 0.0;
+    }
+    return (-c - alpha_tilde * lambda) / denominator;
+}
+
+// The dihedral angle of four particles (see dihedral_angle).
+fn dihedral_of(v: array<u32, 4>) -> Dihedral {
+    return dihedral_angle(position(v[0]), position(v[1]), position(v[2]), position(v[3]));
+}
+
 // XPBD update of a constraint on four particles with value c, gradient d
 // and alpha~ (crate::constraint::bending::project_four); returns the new multiplier.
 fn project_four(v: array<u32, 4>, alpha: f32, c: f32, d: Dihedral, lambda: f32) -> f32 {
@@ -158,11 +154,11 @@ fn project_four(v: array<u32, 4>, alpha: f32, c: f32, d: Dihedral, lambda: f32) 
     let w1 = inv_mass(v[1]);
     let w2 = inv_mass(v[2]);
     let w3 = inv_mass(v[3]);
-    let denom = w0 * dot(d.g0, d.g0) + w1 * dot(d.g1, d.g1) + w2 * dot(d.g2, d.g2) + w3 * dot(d.g3, d.g3);
-    if denom + alpha <= 1.17549435e-38 {
+    let norm = w0 * dot(d.g0, d.g0) + w1 * dot(d.g1, d.g1) + w2 * dot(d.g2, d.g2) + w3 * dot(d.g3, d.g3);
+    let dlambda = lagrange_update(c, norm, alpha, lambda);
+    if dlambda == 0.0 {
         return lambda;
     }
-    let dlambda = (-c - alpha * lambda) / (denom + alpha);
     if w0 > 0.0 { move_by(v[0], d.g0 * (w0 * dlambda)); }
     if w1 > 0.0 { move_by(v[1], d.g1 * (w1 * dlambda)); }
     if w2 > 0.0 { move_by(v[2], d.g2 * (w2 * dlambda)); }

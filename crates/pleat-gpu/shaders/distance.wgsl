@@ -4,16 +4,6 @@
 // workgroup runs over every colour while an edge is still far beyond its
 // limit, so that the dispatch stops itself.
 
-struct Distance {
-    a: u32,
-    b: u32,
-    rest_length: f32,
-    compliance: f32,
-    slot: u32,
-    // Largest change of length (m); f32::MAX for no limit.
-    max_stretch: f32,
-}
-
 @group(1) @binding(0) var<storage, read_write> items: array<Distance>;
 @group(1) @binding(1) var<storage, read_write> lambda: array<f32>;
 // The further sweeps' colours: each colour's slice of `items`.
@@ -21,7 +11,6 @@ struct Distance {
 // Whether the last sweep found an edge beyond STRAIN_LIMIT_SLACK times its
 // limit (1) or not (0); the further sweeps clear it.
 @group(1) @binding(3) var<storage, read_write> beyond: array<atomic<u32>>;
-@group(1) @binding(4) var<uniform> range: Range;
 
 // Sweeps of the strain limits a substep: the first STRAIN_LIMIT_SWEEPS,
 // then more while the last found an edge beyond STRAIN_LIMIT_SLACK times
@@ -44,13 +33,13 @@ struct Edge {
 }
 
 fn edge(gid: vec3<u32>, groups: vec3<u32>) -> Edge {
-    let k = flat_index(gid, groups);
-    if k >= range.count {
+    let j = range_item(gid, groups);
+    if j == NONE {
         var none: Edge;
         none.ok = false;
         return none;
     }
-    return edge_at(range.first + k);
+    return edge_at(j);
 }
 
 // The edge of constraint j.
@@ -94,8 +83,7 @@ fn solve(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups)
     }
     let c = items[e.j];
     let w = e.wa + e.wb;
-    let alpha = alpha_of(c.compliance, c.slot);
-    let dlambda = (-e.c - alpha * lambda[e.j]) / (w + alpha);
+    let dlambda = lagrange_update(e.c, w, alpha_of(c.compliance, c.slot), lambda[e.j]);
     lambda[e.j] += dlambda;
     move_by(c.a, e.n * (e.wa * dlambda));
     move_by(c.b, e.n * (-e.wb * dlambda));

@@ -4,34 +4,13 @@
 // then over the workgroups by one workgroup in a fixed order, so every run
 // sums the same way.
 
-struct Summary {
-    non_finite: u32,
-    first_bad: u32,
-    fastest: u32,
-    speed2: f32,
-    kinetic: f32,
-    potential: f32,
-    strain: f32,
-    pad: u32,
-}
-
-struct PaperEdge {
-    a: u32,
-    b: u32,
-    rest_length: f32,
-    pad: u32,
-}
-
 @group(1) @binding(0) var<storage, read_write> rest: array<vec4<f32>>;
 @group(1) @binding(1) var<storage, read_write> paper_edges: array<PaperEdge>;
 @group(1) @binding(2) var<storage, read_write> partials: array<Summary>;
 @group(1) @binding(3) var<storage, read_write> result: array<Summary>;
 // count: the number of paper edges.
-@group(1) @binding(4) var<uniform> range: Range;
 
 var<workgroup> scratch: array<Summary, 256>;
-
-const NONE: u32 = 0xffffffffu;
 
 fn empty() -> Summary {
     return Summary(0u, NONE, NONE, -1.0, 0.0, 0.0, 0.0, 0u);
@@ -97,15 +76,10 @@ fn reduce_workgroup(local: u32, s: Summary) -> Summary {
 }
 
 @compute @workgroup_size(256)
-fn reduce_blocks(
-    @builtin(global_invocation_id) gid: vec3<u32>,
-    @builtin(local_invocation_id) lid: vec3<u32>,
-    @builtin(workgroup_id) wid: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-) {
-    let total = reduce_workgroup(lid.x, measure(flat_index(gid, groups)));
-    if lid.x == 0u {
-        partials[wid.x + wid.y * groups.x] = total;
+fn reduce_blocks(at: Invocation) {
+    let total = reduce_workgroup(at.lid.x, measure(flat_index(at.gid, at.groups)));
+    if at.lid.x == 0u {
+        partials[block_index(at)] = total;
     }
 }
 

@@ -3,17 +3,8 @@
 // target is the fold progress (a uniform) times the full angle; driven
 // creases are stiffening springs while the fold is held, flat hinges linear.
 
-struct Hinge {
-    v: array<u32, 4>,
-    full_angle: f32,
-    compliance: f32,
-    angle: f32,
-    slot: u32,
-}
-
 @group(1) @binding(0) var<storage, read_write> items: array<Hinge>;
 @group(1) @binding(1) var<storage, read_write> lambda: array<f32>;
-@group(1) @binding(4) var<uniform> range: Range;
 
 const MAX_TARGET_ANGLE: f32 = 178.0 * PI / 180.0;
 const MAX_TRACKED_ANGLE: f32 = 1.25 * PI;
@@ -51,13 +42,10 @@ fn unwrap_angle(tracked: f32, phi: f32) -> f32 {
 
 @compute @workgroup_size(256)
 fn solve(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let k = flat_index(gid, groups);
-    if k >= range.count {
-        return;
-    }
-    let j = range.first + k;
+    let j = range_item(gid, groups);
+    if j == NONE { return; }
     let h = items[j];
-    let d = dihedral_angle(position(h.v[0]), position(h.v[1]), position(h.v[2]), position(h.v[3]));
+    let d = dihedral_of(h.v);
     if !d.ok {
         return;
     }
@@ -78,12 +66,11 @@ fn solve(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups)
 
 @compute @workgroup_size(256)
 fn track(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let j = flat_index(gid, groups);
-    if j >= range.count {
-        return;
-    }
+    // The range is every hinge (first 0).
+    let j = range_item(gid, groups);
+    if j == NONE { return; }
     let h = items[j];
-    let d = dihedral_angle(position(h.v[0]), position(h.v[1]), position(h.v[2]), position(h.v[3]));
+    let d = dihedral_of(h.v);
     if d.ok {
         items[j].angle = clamp(unwrap_angle(h.angle, d.phi), -MAX_TRACKED_ANGLE, MAX_TRACKED_ANGLE);
     }

@@ -1,24 +1,13 @@
 // Isometric bending (Bergou et al. 2006), one colour per dispatch
 // (crate::constraint::isometric_bending).
 
-struct Isometric {
-    v: array<u32, 4>,
-    k: array<f32, 4>,
-    compliance: f32,
-    slot: u32,
-}
-
 @group(1) @binding(0) var<storage, read_write> items: array<Isometric>;
 @group(1) @binding(1) var<storage, read_write> lambda: array<f32>;
-@group(1) @binding(4) var<uniform> range: Range;
 
 @compute @workgroup_size(256)
 fn solve(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let n = flat_index(gid, groups);
-    if n >= range.count {
-        return;
-    }
-    let j = range.first + n;
+    let j = range_item(gid, groups);
+    if j == NONE { return; }
     let c = items[j];
     let p0 = position(c.v[0]);
     let b = (position(c.v[1]) - p0) * c.k[1] + (position(c.v[2]) - p0) * c.k[2] + (position(c.v[3]) - p0) * c.k[3];
@@ -28,12 +17,11 @@ fn solve(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups)
     }
     let dir = b / value;
     let w = array<f32, 4>(inv_mass(c.v[0]), inv_mass(c.v[1]), inv_mass(c.v[2]), inv_mass(c.v[3]));
-    let denom = w[0] * c.k[0] * c.k[0] + w[1] * c.k[1] * c.k[1] + w[2] * c.k[2] * c.k[2] + w[3] * c.k[3] * c.k[3];
-    let alpha = alpha_of(c.compliance, c.slot);
-    if denom + alpha <= 1.17549435e-38 {
+    let norm = w[0] * c.k[0] * c.k[0] + w[1] * c.k[1] * c.k[1] + w[2] * c.k[2] * c.k[2] + w[3] * c.k[3] * c.k[3];
+    let dlambda = lagrange_update(value, norm, alpha_of(c.compliance, c.slot), lambda[j]);
+    if dlambda == 0.0 {
         return;
     }
-    let dlambda = (-value - alpha * lambda[j]) / (denom + alpha);
     lambda[j] += dlambda;
     for (var q = 0u; q < 4u; q++) {
         if w[q] > 0.0 {

@@ -3,24 +3,11 @@
 // corrections, relaxed by omega, gathered over its constraints in a fixed
 // order (no atomics: bit-identical runs).
 
-struct Distance {
-    a: u32,
-    b: u32,
-    rest_length: f32,
-    // PBD stiffness in [0, 1].
-    stiffness: f32,
-    // Unused: Jacobi PBD has no compliance.
-    slot: u32,
-    // Unused: Jacobi PBD has no strain limits.
-    max_stretch: f32,
-}
-
 @group(1) @binding(0) var<storage, read_write> items: array<Distance>;
 @group(1) @binding(1) var<storage, read_write> corrections: array<vec4<f32>>;
 @group(1) @binding(2) var<storage, read_write> incidence_start: array<u32>;
 // Per slot: constraint index times two plus the end (0 or 1).
 @group(1) @binding(3) var<storage, read_write> incidence: array<u32>;
-@group(1) @binding(4) var<uniform> range: Range;
 
 @compute @workgroup_size(256)
 fn correct(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
@@ -38,7 +25,8 @@ fn correct(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroup
     var db = vec3<f32>(0.0);
     if w > 0.0 && len > 1.1920929e-7 * max(c.rest_length, 1e-6) {
         let n = d / len;
-        let s = c.stiffness * (len - c.rest_length) / w;
+        // Jacobi PBD's stiffness travels in the compliance field.
+        let s = c.compliance * (len - c.rest_length) / w;
         da = n * (-s * wa);
         db = n * (s * wb);
     }

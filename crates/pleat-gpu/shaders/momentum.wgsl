@@ -27,7 +27,6 @@ struct Sums {
 // The turn's rotation vector, then the centre it turns about.
 @group(1) @binding(2) var<storage, read_write> turn: array<vec4<f32>>;
 // first, count: the cloth's particles.
-@group(1) @binding(4) var<uniform> range: Range;
 
 var<workgroup> scratch: array<vec4<f32>, 256>;
 
@@ -93,15 +92,10 @@ fn reduce_workgroup(local: u32, s: Sums) -> Sums {
 }
 
 @compute @workgroup_size(256)
-fn sum_blocks(
-    @builtin(global_invocation_id) gid: vec3<u32>,
-    @builtin(local_invocation_id) lid: vec3<u32>,
-    @builtin(workgroup_id) wid: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-) {
-    let total = reduce_workgroup(lid.x, measure(flat_index(gid, groups)));
-    if lid.x == 0u {
-        partials[wid.x + wid.y * groups.x] = total;
+fn sum_blocks(at: Invocation) {
+    let total = reduce_workgroup(at.lid.x, measure(flat_index(at.gid, at.groups)));
+    if at.lid.x == 0u {
+        partials[block_index(at)] = total;
     }
 }
 
@@ -147,11 +141,8 @@ fn solve(@builtin(local_invocation_id) lid: vec3<u32>) {
 
 @compute @workgroup_size(256)
 fn apply(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let k = flat_index(gid, groups);
-    if k >= range.count {
-        return;
-    }
-    let i = range.first + k;
+    let i = range_item(gid, groups);
+    if i == NONE { return; }
     let x = pos[i].xyz;
     let step = cross(turn[0].xyz, x - turn[1].xyz);
     let moved = x + step;

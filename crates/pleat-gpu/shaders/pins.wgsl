@@ -4,7 +4,6 @@
 
 @group(1) @binding(0) var<storage, read_write> pins: array<u32>;
 @group(1) @binding(2) var<storage, read_write> targets: array<vec4<f32>>;
-@group(1) @binding(4) var<uniform> range: Range;
 
 @compute @workgroup_size(256)
 fn place_pins(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {

@@ -3,11 +3,13 @@
 
 use std::fmt;
 
-/// Why the GPU backend cannot run a simulation.
+/// Why the GPU backend cannot run a simulation. The text says what
+/// happened; what a user can do about it (another backend, a software
+/// driver) is the caller's to say, as only it knows its options.
 #[derive(Debug, thiserror::Error)]
 pub enum GpuError {
     /// No adapter at all: no GPU and no software driver.
-    #[error("no GPU adapter found ({0}); without a GPU, install a software Vulkan driver (Debian: mesa-vulkan-drivers)")]
+    #[error("no GPU adapter found ({0})")]
     NoAdapter(String),
     /// The adapter would not give a device.
     #[error("the GPU adapter {adapter} gave no device: {reason}")]
@@ -18,7 +20,7 @@ pub enum GpuError {
         reason: String,
     },
     /// The scene uses a feature the GPU backend does not have yet.
-    #[error("{field}: {reason}; use --backend cpu")]
+    #[error("{field}: {reason}")]
     Unsupported {
         /// JSON path of the scene field.
         field: String,

@@ -1,5 +1,5 @@
 //! The plain data the kernels read, laid out as their WGSL structs
-//! (`shaders/common.wgsl`, `collide.wgsl`, `attachment.wgsl`), and its
+//! (`shaders/structs.wgsl`; `crate::layout` tests the match), and its
 //! construction from the core's world. Constraint arrays need no
 //! conversion: the core's constraint types are already `#[repr(C)]` Pod.
 
@@ -11,7 +11,7 @@ use pleat::control::Control;
 use pleat::solver::SolverSettings;
 use pleat::World;
 
-/// Per-substep parameters (`Params` in common.wgsl).
+/// Per-substep parameters (`Params` in structs.wgsl).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct Params {
@@ -109,7 +109,7 @@ impl Params {
     }
 }
 
-/// A slice of a constraint array (`Range` in common.wgsl).
+/// A slice of a constraint array (`Range` in structs.wgsl).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct Range {
@@ -117,7 +117,7 @@ pub struct Range {
     pub count: u32,
 }
 
-/// A soft attachment (`Attachment` in attachment.wgsl).
+/// A soft attachment (`Attachment` in structs.wgsl).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct Attachment {
@@ -128,7 +128,7 @@ pub struct Attachment {
     pub pad: u32,
 }
 
-/// A collider shape (`Collider` in collide.wgsl).
+/// A collider shape (`Collider` in structs.wgsl).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct GpuCollider {
@@ -258,7 +258,7 @@ fn grid_collider(g: &mut GpuCollider, grid: &SdfGrid, values: &mut Vec<f32>) {
     values.extend_from_slice(grid.values());
 }
 
-/// An affine map as the three rows of its 3 x 4 matrix (`Affine` in collide.wgsl).
+/// An affine map as the three rows of its 3 x 4 matrix (`Affine` in structs.wgsl).
 fn rows(m: Affine3A) -> [[f32; 4]; 3] {
     let (x, y, z, t) = (
         m.matrix3.x_axis,
@@ -269,7 +269,7 @@ fn rows(m: Affine3A) -> [[f32; 4]; 3] {
     [0, 1, 2].map(|i| [x[i], y[i], z[i], t[i]])
 }
 
-/// A collider's placement over a substep (`Pose` in collide.wgsl).
+/// A collider's placement over a substep (`Pose` in structs.wgsl).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct GpuPose {

@@ -17,18 +17,18 @@ const ARRIVED: u8 = 1;
 const FAILED: u8 = 2;
 const NONE: u32 = u32::MAX;
 
-/// The reduction's result (`Summary` in health.wgsl).
+/// The reduction's result (`Summary` in structs.wgsl).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-struct Summary {
-    non_finite: u32,
-    first_bad: u32,
-    fastest: u32,
-    speed2: f32,
-    kinetic: f32,
-    potential: f32,
-    strain: f32,
-    pad: u32,
+pub(crate) struct Summary {
+    pub(crate) non_finite: u32,
+    pub(crate) first_bad: u32,
+    pub(crate) fastest: u32,
+    pub(crate) speed2: f32,
+    pub(crate) kinetic: f32,
+    pub(crate) potential: f32,
+    pub(crate) strain: f32,
+    pub(crate) pad: u32,
 }
 
 impl Summary {
@@ -47,14 +47,14 @@ impl Summary {
     }
 }
 
-/// A paper edge whose strain counts as a tear (`PaperEdge` in health.wgsl).
+/// A paper edge whose strain counts as a tear (`PaperEdge` in structs.wgsl).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-struct PaperEdge {
-    a: u32,
-    b: u32,
-    rest_length: f32,
-    pad: u32,
+pub(crate) struct PaperEdge {
+    pub(crate) a: u32,
+    pub(crate) b: u32,
+    pub(crate) rest_length: f32,
+    pub(crate) pad: u32,
 }
 
 /// The paper edges of `model`, as the reduction reads them.

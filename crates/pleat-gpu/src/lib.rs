@@ -26,6 +26,8 @@ mod context;
 mod data;
 mod health;
 mod kernels;
+#[cfg(test)]
+mod layout;
 mod momentum;
 mod readback;
 pub mod shaders;

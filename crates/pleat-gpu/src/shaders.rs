@@ -1,6 +1,13 @@
 //! The WGSL sources of the compute kernels. Each module is the shared
-//! prelude (`common.wgsl`: the particle state, parameters and helpers)
-//! followed by one kernel file.
+//! prelude followed by one kernel file: `structs.wgsl`, every struct the
+//! host writes or reads (each mirrors a Pod type, checked by
+//! `crate::layout`'s tests), then `common.wgsl`, the particle state and the
+//! helpers every kernel shares (the XPBD multiplier update among them).
+//!
+//! A generated preamble rather than a module system (naga_oil, wesl): the
+//! kernels share one flat prelude and nothing else, which concatenation
+//! does exactly, with no build step, no dependency tied to wgpu's naga
+//! version, and the same source on native and wasm32.
 
 /// One compute module: its name (the file) and its entry points.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -13,6 +20,9 @@ pub struct Module {
     pub entry_points: &'static [&'static str],
 }
 
+/// The structs every kernel shares, laid out as the host's Pod types.
+pub(crate) const STRUCTS: &str = include_str!("../shaders/structs.wgsl");
+/// The particle state and the shared helpers.
 const COMMON: &str = include_str!("../shaders/common.wgsl");
 
 macro_rules! module {
@@ -100,7 +110,10 @@ pub const ALL: [Module; 14] = [
 impl Module {
     /// The whole WGSL source: the prelude, then the kernel.
     pub fn source(&self) -> String {
-        format!("{COMMON}\n// ---- {}.wgsl ----\n{}", self.name, self.body)
+        format!(
+            "{STRUCTS}\n// ---- common.wgsl ----\n{COMMON}\n// ---- {}.wgsl ----\n{}",
+            self.name, self.body
+        )
     }
 }
 

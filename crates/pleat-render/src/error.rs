@@ -3,14 +3,12 @@
 
 use std::path::PathBuf;
 
-/// Why a picture could not be made.
+/// Why a picture could not be made. The text says what happened; what a
+/// user can do about it is the caller's to say.
 #[derive(Debug, thiserror::Error)]
 pub enum RenderError {
     /// No GPU adapter, not even a software one.
-    #[error(
-        "no usable GPU adapter ({0}); on a machine without a GPU, install a software \
-         Vulkan driver such as Mesa lavapipe (Debian/Ubuntu: apt-get install mesa-vulkan-drivers)"
-    )]
+    #[error("no usable GPU adapter ({0})")]
     NoAdapter(String),
     /// The adapter would not open a device.
     #[error("cannot open the GPU device: {0}")]

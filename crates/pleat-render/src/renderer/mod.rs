@@ -1,6 +1,7 @@
 //! The renderer: one frame drawn offscreen and read back as an RGBA image.
-//! Its GPU resources are made in `resources`, its pipelines in `pipelines`,
-//! and it draws into and reads back from `targets`.
+//! What it draws around the cloth and where from is worked out in `stage`,
+//! its GPU resources are made in `resources`, its pipelines and bind
+//! groups in `pipelines`, and it draws into and reads back from `targets`.
 //!
 //! A frame is a compute pass (smooth normals and edge strain from the
 //! positions), a shadow pass (depth from the light), and a multisampled
@@ -10,27 +11,23 @@
 //! caller's storage buffer on the same device (the GPU backend's), read
 //! where it is: they never come back to the CPU.
 
-use crate::camera::{project, Bounds, Camera, Light};
+use crate::camera::{project, Camera, Light};
 use crate::error::RenderError;
-use crate::geometry::{
-    collider_color, constraint_lines, ground, ground_plane, planar_uvs, wireframe_lines,
-    ColliderMesh, Incidence, Line, MeshVertex, Surface, CONSTRAINT_KINDS,
-};
+use crate::geometry::CONSTRAINT_KINDS;
 use crate::legend::{draw_constraint_legend, draw_strain_legend};
 use crate::settings::{RenderSettings, View};
-use crate::textures::{self, ENVIRONMENT_SIZE};
 use bytemuck::{Pod, Zeroable};
-use glam::{Affine3A, Mat4, Vec2, Vec3, Vec4};
+use glam::{Mat4, Vec2, Vec3};
 use image::RgbaImage;
-use pipelines::{Layouts, Pipelines};
-use pleat::collide::Motion;
+use pipelines::{GlobalGroups, Layouts, Pipelines};
 use pleat::{Model, World};
-use resources::{buffer_init, linear, upload_texture, vec4s, whole};
+use resources::{buffer_init, linear, vec4s, whole, ClothBuffers, Material};
+use stage::Stage;
 use targets::Targets;
-use wgpu::util::DeviceExt;
 
 mod pipelines;
 mod resources;
+mod stage;
 mod targets;
 
 pub use resources::{headless_device, Headless};
@@ -81,43 +78,21 @@ pub struct Renderer {
     index_count: u32,
     camera: Camera,
     view_proj: Mat4,
-    light_view_proj: Mat4,
-    /// Radius of the scene's bounding sphere: where the near and far planes go.
-    radius: f32,
     globals: wgpu::Buffer,
     strain_range: f32,
     /// The model holds paper (crease patterns): paper colours and constraint kinds.
     is_paper: bool,
-    global_bind_group: wgpu::BindGroup,
-    shadow_bind_group: wgpu::BindGroup,
-    own_positions: wgpu::Buffer,
-    normals: wgpu::Buffer,
-    uvs: wgpu::Buffer,
-    indices: wgpu::Buffer,
-    normals_inputs: NormalsInputs,
+    global_groups: GlobalGroups,
+    cloth: ClothBuffers,
     lines: Option<(wgpu::Buffer, u32)>,
-    colliders: Vec<(ColliderMesh, Vec3)>,
-    /// A ball drawn at each pin, and where the pins are at time zero and how they move.
-    pin_marker: ColliderMesh,
-    pins: Vec<(Vec3, Motion)>,
-    ground: Vec<MeshVertex>,
+    /// The colliders, the ground and the pins, and the light.
+    stage: Stage,
     mesh_vertices: wgpu::Buffer,
     mesh_vertex_count: u32,
-    albedo: wgpu::TextureView,
-    height_map: wgpu::TextureView,
-    material_sampler: wgpu::Sampler,
+    material: Material,
     layouts: Layouts,
     pipelines: Pipelines,
     targets: Targets,
-}
-
-/// What the normals pass reads besides the positions.
-struct NormalsInputs {
-    params: wgpu::Buffer,
-    rest: wgpu::Buffer,
-    triangles: wgpu::Buffer,
-    incidence_start: wgpu::Buffer,
-    incidence: wgpu::Buffer,
 }
 
 impl Renderer {
@@ -141,48 +116,11 @@ impl Renderer {
         world: &World,
         settings: RenderSettings,
     ) -> Result<Self, RenderError> {
-        let max = device.limits().max_texture_dimension_2d;
-        let (width, height) = (settings.width, settings.height);
-        if !(1..=max).contains(&width) || !(1..=max).contains(&height) {
-            return Err(RenderError::Size { width, height, max });
-        }
-        if ![1, 4].contains(&settings.msaa) {
-            return Err(RenderError::Setting(format!(
-                "msaa must be 1 or 4 samples, got {}",
-                settings.msaa
-            )));
-        }
-        let colliders: Vec<(ColliderMesh, Vec3)> = world
-            .colliders
-            .iter()
-            .enumerate()
-            .filter_map(|(i, c)| ColliderMesh::of(&c.shape).map(|m| (m, collider_color(i))))
-            .collect();
-        let bounds = colliders
-            .iter()
-            .filter_map(|(m, _)| m.bounds())
-            .chain(Bounds::of(model.rest.iter().copied()))
-            .reduce(Bounds::union)
-            .unwrap_or(Bounds {
-                min: Vec3::splat(-0.5),
-                max: Vec3::splat(0.5),
-            });
-        let (center, radius) = (bounds.center(), bounds.radius());
-        let (plane_point, plane_normal) = ground_plane(&world.colliders, &bounds);
-        let ground = ground(plane_point, plane_normal, center, radius * 25.0);
-        // The light's box holds the scene and the ground under it.
-        let foot = center - plane_normal * (center - plane_point).dot(plane_normal);
-        let lit = bounds.union(Bounds {
-            min: foot,
-            max: foot,
-        });
-        let light_view_proj = settings.light.view_proj(lit.center(), lit.radius());
-
-        let aspect = width as f32 / height as f32;
-        let camera = settings
-            .camera
-            .unwrap_or_else(|| Camera::framing(&bounds, aspect));
-        let view_proj = camera.view_proj(aspect, radius);
+        check_size(&device, &settings)?;
+        let stage = Stage::new(model, world, &settings);
+        let aspect = settings.width as f32 / settings.height as f32;
+        let camera = stage.camera(&settings, aspect);
+        let view_proj = camera.view_proj(aspect, stage.radius);
         let is_paper = model.cloths.iter().any(|c| c.paper.is_some());
         let strain_range = settings
             .strain_range
@@ -190,7 +128,7 @@ impl Renderer {
         let globals = Self::globals(
             &settings,
             &camera,
-            [view_proj, light_view_proj],
+            [view_proj, stage.light_view_proj],
             strain_range,
             is_paper,
         );
@@ -200,247 +138,40 @@ impl Renderer {
             bytemuck::bytes_of(&globals),
             wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         );
-
-        // The cloth's buffers.
         let particles = model.particle_count();
-        let storage = wgpu::BufferUsages::STORAGE;
-        let own_positions = buffer_init(
+        let targets = Targets::new(
             &device,
-            "positions",
-            bytemuck::cast_slice(&vec4s(&model.rest)),
-            storage | wgpu::BufferUsages::COPY_DST,
+            settings.width,
+            settings.height,
+            settings.msaa,
+            particles,
         );
-        let normals = buffer_init(
-            &device,
-            "normals",
-            &vec![0u8; particles * 16],
-            storage | wgpu::BufferUsages::COPY_SRC,
-        );
-        let uvs = buffer_init(
-            &device,
-            "uvs",
-            bytemuck::cast_slice(&planar_uvs(model)),
-            storage,
-        );
-        let indices = buffer_init(
-            &device,
-            "indices",
-            bytemuck::cast_slice(&model.triangles),
-            wgpu::BufferUsages::INDEX,
-        );
-        let incidence = Incidence::new(particles, &model.triangles);
-        let normals_inputs = NormalsInputs {
-            params: buffer_init(
-                &device,
-                "normals params",
-                bytemuck::cast_slice(&[particles as u32, 0, 0, 0]),
-                wgpu::BufferUsages::UNIFORM,
-            ),
-            rest: buffer_init(
-                &device,
-                "rest",
-                bytemuck::cast_slice(&vec4s(&model.rest)),
-                storage,
-            ),
-            triangles: buffer_init(
-                &device,
-                "triangles",
-                bytemuck::cast_slice(&model.triangles),
-                storage,
-            ),
-            incidence_start: buffer_init(
-                &device,
-                "incidence start",
-                bytemuck::cast_slice(&incidence.start),
-                storage,
-            ),
-            incidence: buffer_init(
-                &device,
-                "incidence",
-                bytemuck::cast_slice(&incidence.triangles),
-                storage,
-            ),
-        };
-        let lines: Option<Vec<Line>> = match settings.view {
-            View::Wireframe => Some(wireframe_lines(model)),
-            View::Constraints => Some(constraint_lines(model)),
-            _ => None,
-        };
-        let lines = lines.map(|l| {
-            let buffer = buffer_init(
-                &device,
-                "lines",
-                bytemuck::cast_slice(&l),
-                wgpu::BufferUsages::VERTEX,
-            );
-            (buffer, l.len() as u32)
-        });
-        let pin_marker = ColliderMesh::pin_marker(radius * 0.012);
-        let pins: Vec<(Vec3, Motion)> = model
-            .pins
-            .iter()
-            .map(|p| (model.rest[p.particle as usize], p.motion))
-            .collect();
-        let mesh_vertex_count = (ground.len()
-            + colliders
-                .iter()
-                .map(|(m, _)| m.positions.len())
-                .sum::<usize>()
-            + pins.len() * pin_marker.positions.len()) as u32;
-        let mesh_vertices = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("mesh vertices"),
-            size: (mesh_vertex_count as u64 * std::mem::size_of::<MeshVertex>() as u64).max(16),
-            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-
-        // Textures: the cloth's colour and height, the environment.
-        let (fabric_color, fabric_height) = textures::fabric();
-        let default_albedo = if is_paper {
-            textures::plain(255)
-        } else {
-            fabric_color
-        };
-        let default_height = if is_paper {
-            textures::plain(128)
-        } else {
-            fabric_height
-        };
-        let albedo = upload_texture(
-            &device,
-            &queue,
-            "albedo",
-            settings.texture.as_ref().unwrap_or(&default_albedo),
-            COLOR_FORMAT,
-        );
-        let height_map = upload_texture(
-            &device,
-            &queue,
-            "height map",
-            settings.height_map.as_ref().unwrap_or(&default_height),
-            wgpu::TextureFormat::Rgba8Unorm,
-        );
-        let material_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("material"),
-            address_mode_u: wgpu::AddressMode::Repeat,
-            address_mode_v: wgpu::AddressMode::Repeat,
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            // Trilinear, not anisotropic: on lavapipe 8x anisotropic
-            // filtering took 1.1 of 1.75 s per 1280 x 720 picture, and the
-            // mipmapped weave looks the same without it.
-            mipmap_filter: wgpu::MipmapFilterMode::Linear,
-            ..Default::default()
-        });
-        let environment = device
-            .create_texture_with_data(
-                &queue,
-                &wgpu::TextureDescriptor {
-                    label: Some("environment"),
-                    size: wgpu::Extent3d {
-                        width: ENVIRONMENT_SIZE,
-                        height: ENVIRONMENT_SIZE,
-                        depth_or_array_layers: 6,
-                    },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format: COLOR_FORMAT,
-                    usage: wgpu::TextureUsages::TEXTURE_BINDING,
-                    view_formats: &[],
-                },
-                wgpu::util::TextureDataOrder::LayerMajor,
-                &textures::environment(settings.light.direction),
-            )
-            .create_view(&wgpu::TextureViewDescriptor {
-                dimension: Some(wgpu::TextureViewDimension::Cube),
-                ..Default::default()
-            });
-        let environment_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("environment"),
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            ..Default::default()
-        });
-        let shadow_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("shadow"),
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            compare: Some(wgpu::CompareFunction::LessEqual),
-            ..Default::default()
-        });
-        let targets = Targets::new(&device, width, height, settings.msaa, particles);
-
         let layouts = Layouts::new(&device);
-        let global_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("globals"),
-            layout: &layouts.global,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: globals.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(&targets.shadow),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::Sampler(&shadow_sampler),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: wgpu::BindingResource::TextureView(&environment),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: wgpu::BindingResource::Sampler(&environment_sampler),
-                },
-            ],
-        });
-        let shadow_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("shadow globals"),
-            layout: &layouts.shadow,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: globals.as_entire_binding(),
-            }],
-        });
-        let pipelines = Pipelines::new(&device, &layouts, settings.msaa);
-
+        let environment = resources::environment(&device, &queue, settings.light.direction);
+        let global_groups =
+            GlobalGroups::new(&device, &layouts, &globals, &targets.shadow, &environment);
+        let mesh_vertex_count = stage.mesh_vertex_count();
         Ok(Renderer {
-            device,
-            queue,
-            settings,
             particles,
             index_count: model.triangles.len() as u32 * 3,
             camera,
             view_proj,
-            light_view_proj,
-            radius,
             globals,
             strain_range,
             is_paper,
-            global_bind_group,
-            shadow_bind_group,
-            own_positions,
-            normals,
-            uvs,
-            indices,
-            normals_inputs,
-            lines,
-            colliders,
-            pin_marker,
-            pins,
-            ground,
-            mesh_vertices,
+            global_groups,
+            cloth: ClothBuffers::new(&device, model),
+            lines: resources::line_buffer(&device, model, settings.view),
+            stage,
+            mesh_vertices: resources::mesh_vertex_buffer(&device, mesh_vertex_count),
             mesh_vertex_count,
-            albedo,
-            height_map,
-            material_sampler,
+            material: Material::new(&device, &queue, &settings, is_paper),
+            pipelines: Pipelines::new(&device, &layouts, settings.msaa),
             layouts,
-            pipelines,
             targets,
+            device,
+            queue,
+            settings,
         })
     }
 
@@ -526,7 +257,7 @@ impl Renderer {
         let strain = self.settings.view == View::Strain && self.particles > 0;
         if strain {
             encoder.copy_buffer_to_buffer(
-                &self.normals,
+                &self.cloth.normals,
                 0,
                 &self.targets.strain_readback,
                 0,
@@ -642,11 +373,11 @@ impl Renderer {
     /// Recomputes the camera's matrix and writes the uniforms.
     fn write_globals(&mut self) {
         let aspect = self.settings.width as f32 / self.settings.height as f32;
-        self.view_proj = self.camera.view_proj(aspect, self.radius);
+        self.view_proj = self.camera.view_proj(aspect, self.stage.radius);
         let globals = Self::globals(
             &self.settings,
             &self.camera,
-            [self.view_proj, self.light_view_proj],
+            [self.view_proj, self.stage.light_view_proj],
             self.strain_range,
             self.is_paper,
         );
@@ -666,12 +397,12 @@ impl Renderer {
                 }
                 if !x.is_empty() {
                     self.queue.write_buffer(
-                        &self.own_positions,
+                        &self.cloth.own_positions,
                         0,
                         bytemuck::cast_slice(&vec4s(x)),
                     );
                 }
-                self.own_positions.clone()
+                self.cloth.own_positions.clone()
             }
             Positions::Gpu(buffer) => {
                 if !buffer.usage().contains(wgpu::BufferUsages::STORAGE) {
@@ -693,32 +424,7 @@ impl Renderer {
 
     /// Writes the ground, the colliders and the pins, placed at the world's time.
     fn upload_meshes(&self, world: &World) {
-        let mut vertices = self.ground.clone();
-        let surface = if self.settings.mirror_colliders {
-            Surface::Mirror
-        } else {
-            Surface::Matte
-        };
-        let placed = world
-            .colliders
-            .iter()
-            .filter(|c| !matches!(c.shape, pleat::collide::Shape::Plane { .. }));
-        for ((mesh, color), collider) in self.colliders.iter().zip(placed) {
-            let tint = if surface == Surface::Mirror {
-                Vec3::splat(0.9)
-            } else {
-                *color
-            };
-            let linear_tint = Vec4::from_array(linear(tint)).truncate();
-            vertices.extend(mesh.vertices(&collider.pose_at(world.time), linear_tint, surface));
-        }
-        let pin_color = Vec4::from_array(linear(Vec3::splat(0.15))).truncate();
-        for (anchor, motion) in &self.pins {
-            let at = motion.pose_at(world.time).transform_point3(*anchor);
-            let pose = Affine3A::from_translation(at);
-            vertices.extend(self.pin_marker.vertices(&pose, pin_color, Surface::Matte));
-        }
-        vertices.truncate(self.mesh_vertex_count as usize);
+        let vertices = self.stage.vertices(world, self.settings.mirror_colliders);
         if !vertices.is_empty() {
             self.queue
                 .write_buffer(&self.mesh_vertices, 0, bytemuck::cast_slice(&vertices));
@@ -727,7 +433,7 @@ impl Renderer {
 
     /// Records the normals, shadow and main passes.
     fn encode(&self, encoder: &mut wgpu::CommandEncoder, positions: &wgpu::Buffer) {
-        let n = &self.normals_inputs;
+        let n = &self.cloth.normals_inputs;
         let normals_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("normals"),
             layout: &self.layouts.normals,
@@ -738,7 +444,7 @@ impl Renderer {
                 (3, whole(&n.triangles)),
                 (4, whole(&n.incidence_start)),
                 (5, whole(&n.incidence)),
-                (6, whole(&self.normals)),
+                (6, whole(&self.cloth.normals)),
             ]
             .map(|(binding, resource)| wgpu::BindGroupEntry { binding, resource }),
         });
@@ -747,11 +453,14 @@ impl Renderer {
             layout: &self.layouts.cloth,
             entries: &[
                 (0, whole(positions)),
-                (1, whole(&self.normals)),
-                (2, whole(&self.uvs)),
-                (3, wgpu::BindingResource::TextureView(&self.albedo)),
-                (4, wgpu::BindingResource::TextureView(&self.height_map)),
-                (5, wgpu::BindingResource::Sampler(&self.material_sampler)),
+                (1, whole(&self.cloth.normals)),
+                (2, whole(&self.cloth.uvs)),
+                (3, wgpu::BindingResource::TextureView(&self.material.albedo)),
+                (
+                    4,
+                    wgpu::BindingResource::TextureView(&self.material.height_map),
+                ),
+                (5, wgpu::BindingResource::Sampler(&self.material.sampler)),
             ]
             .map(|(binding, resource)| wgpu::BindGroupEntry { binding, resource }),
         });
@@ -764,7 +473,7 @@ impl Renderer {
             pass.set_bind_group(0, &normals_group, &[]);
             pass.dispatch_workgroups((self.particles as u32).div_ceil(NORMALS_WORKGROUP), 1, 1);
         }
-        let ground_vertices = self.ground.len() as u32;
+        let ground_vertices = self.stage.ground.len() as u32;
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("shadow"),
@@ -779,13 +488,13 @@ impl Renderer {
                 }),
                 ..Default::default()
             });
-            pass.set_bind_group(0, &self.shadow_bind_group, &[]);
+            pass.set_bind_group(0, &self.global_groups.shadow, &[]);
             pass.set_pipeline(&self.pipelines.meshes_shadow);
             pass.set_vertex_buffer(0, self.mesh_vertices.slice(..));
             pass.draw(ground_vertices..self.mesh_vertex_count, 0..1);
             pass.set_pipeline(&self.pipelines.cloth_shadow);
             pass.set_bind_group(1, &cloth_group, &[]);
-            pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.set_index_buffer(self.cloth.indices.slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed(0..self.index_count, 0, 0..1);
         }
         let t = &self.targets;
@@ -817,14 +526,14 @@ impl Renderer {
             }),
             ..Default::default()
         });
-        pass.set_bind_group(0, &self.global_bind_group, &[]);
+        pass.set_bind_group(0, &self.global_groups.main, &[]);
         pass.set_pipeline(&self.pipelines.sky);
         pass.draw(0..3, 0..1);
         pass.set_pipeline(&self.pipelines.meshes);
         pass.set_vertex_buffer(0, self.mesh_vertices.slice(..));
         pass.draw(0..self.mesh_vertex_count, 0..1);
         pass.set_bind_group(1, &cloth_group, &[]);
-        pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.set_index_buffer(self.cloth.indices.slice(..), wgpu::IndexFormat::Uint32);
         for pipeline in [&self.pipelines.cloth_back, &self.pipelines.cloth_front] {
             pass.set_pipeline(pipeline);
             pass.draw_indexed(0..self.index_count, 0, 0..1);
@@ -846,14 +555,88 @@ impl Renderer {
     }
 }
 
+/// Refuses a picture size the device cannot draw and a sample count other
+/// than 1 or 4.
+fn check_size(device: &wgpu::Device, settings: &RenderSettings) -> Result<(), RenderError> {
+    let max = device.limits().max_texture_dimension_2d;
+    let (width, height) = (settings.width, settings.height);
+    if !(1..=max).contains(&width) || !(1..=max).contains(&height) {
+        return Err(RenderError::Size { width, height, max });
+    }
+    if ![1, 4].contains(&settings.msaa) {
+        return Err(RenderError::Setting(format!(
+            "msaa must be 1 or 4 samples, got {}",
+            settings.msaa
+        )));
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::{Line, MeshVertex};
 
+    /// The WGSL struct `name` of `source`: its size as naga lays it out,
+    /// and its members' names and offsets.
+    fn wgsl_struct(source: &str, name: &str) -> (usize, Vec<(String, usize)>) {
+        let module = naga::front::wgsl::parse_str(source).expect("parses");
+        let mut layouter = naga::proc::Layouter::default();
+        layouter.update(module.to_ctx()).expect("naga lays it out");
+        let (handle, ty) = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("no struct {name}"));
+        let naga::TypeInner::Struct { members, .. } = &ty.inner else {
+            panic!("{name} is not a struct");
+        };
+        let members = members.iter().map(|m| {
+            let name = m.name.clone().unwrap_or_default();
+            (name, m.offset as usize)
+        });
+        (layouter[handle].size as usize, members.collect())
+    }
+
+    /// Globals has the size and field offsets naga computes for
+    /// common.wgsl's Globals. The pattern lists every Rust field, so one
+    /// added on the Rust side alone stops the build; one added in WGSL
+    /// alone fails the comparison.
     #[test]
     fn globals_match_the_wgsl_layout() {
-        // Three matrices, eight vec4s.
-        assert_eq!(std::mem::size_of::<Globals>(), 3 * 64 + 8 * 16);
+        macro_rules! fields {
+            ($($field:ident),+) => {{
+                let Globals { $($field: _),+ } = Globals::zeroed();
+                vec![$((stringify!($field).to_string(), std::mem::offset_of!(Globals, $field))),+]
+            }};
+        }
+        let rust = fields!(
+            view_proj,
+            light_view_proj,
+            inv_view_proj,
+            camera_position,
+            light_direction,
+            light_color,
+            front_color,
+            back_color,
+            material,
+            misc,
+            mode
+        );
+        let (size, wgsl) = wgsl_struct(crate::shaders::COMMON, "Globals");
+        assert_eq!(
+            wgsl, rust,
+            "Globals: WGSL (left) and Rust (right) members and offsets"
+        );
+        assert_eq!(
+            size,
+            std::mem::size_of::<Globals>(),
+            "Globals: WGSL and Rust sizes"
+        );
+        // The normals pass's uniform is the particle count in a [u32; 4].
+        let (size, wgsl) = wgsl_struct(crate::shaders::NORMALS, "Counts");
+        let counts = vec![("counts".to_string(), 0)];
+        assert_eq!((size, wgsl), (std::mem::size_of::<[u32; 4]>(), counts));
     }
 
     #[test]

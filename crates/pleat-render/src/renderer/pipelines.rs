@@ -1,5 +1,5 @@
-//! The render and compute pipelines, and the bind-group layouts of the
-//! cloth, the lines and the normals pass.
+//! The render and compute pipelines, the bind-group layouts of the
+//! passes, and the bind groups of the per-frame uniforms.
 
 use super::resources::{sampler_entry, storage_entry, texture_entry, uniform_entry};
 use super::{COLOR_FORMAT, DEPTH_FORMAT};
@@ -67,6 +67,54 @@ impl Layouts {
                     storage_entry(5, wgpu::ShaderStages::COMPUTE, true),
                     storage_entry(6, wgpu::ShaderStages::COMPUTE, false),
                 ],
+            }),
+        }
+    }
+}
+
+/// Group 0 of the main pass and of the shadow pass: the uniforms `globals`,
+/// with the shadow map and the environment (view, sampler) in the main pass.
+pub(super) struct GlobalGroups {
+    pub(super) main: wgpu::BindGroup,
+    pub(super) shadow: wgpu::BindGroup,
+}
+
+impl GlobalGroups {
+    pub(super) fn new(
+        device: &wgpu::Device,
+        layouts: &Layouts,
+        globals: &wgpu::Buffer,
+        shadow_map: &wgpu::TextureView,
+        (environment, environment_sampler): &(wgpu::TextureView, wgpu::Sampler),
+    ) -> Self {
+        let shadow_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("shadow"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            compare: Some(wgpu::CompareFunction::LessEqual),
+            ..Default::default()
+        });
+        let main = [
+            (0, globals.as_entire_binding()),
+            (1, wgpu::BindingResource::TextureView(shadow_map)),
+            (2, wgpu::BindingResource::Sampler(&shadow_sampler)),
+            (3, wgpu::BindingResource::TextureView(environment)),
+            (4, wgpu::BindingResource::Sampler(environment_sampler)),
+        ]
+        .map(|(binding, resource)| wgpu::BindGroupEntry { binding, resource });
+        GlobalGroups {
+            main: device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("globals"),
+                layout: &layouts.global,
+                entries: &main,
+            }),
+            shadow: device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("shadow globals"),
+                layout: &layouts.shadow,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: globals.as_entire_binding(),
+                }],
             }),
         }
     }

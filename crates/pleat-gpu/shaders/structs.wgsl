@@ -1,0 +1,158 @@
+// Every struct the host writes or reads back, in one place: each mirrors a
+// #[repr(C)] Pod type on the Rust side, and a test (src/layout.rs) checks
+// its size and field offsets against the layout naga computes here.
+
+// Per-substep parameters (crate::data::Params).
+struct Params {
+    gravity: vec3<f32>,
+    dt: f32,
+    wind_velocity: vec3<f32>,
+    inv_dt2: f32,
+    t: f32,
+    keep: f32,
+    progress: f32,
+    substep: u32,
+    particle_count: u32,
+    triangle_count: u32,
+    pin_count: u32,
+    collider_count: u32,
+    wind_on: u32,
+    drag: f32,
+    lift: f32,
+    air_density: f32,
+    turbulence: f32,
+    turbulence_scale: f32,
+    turbulence_frequency: f32,
+    grab_particle: u32,
+    grab_target: vec3<f32>,
+    grab_compliance: f32,
+    // Jacobi PBD's omega.
+    relaxation: f32,
+    // Self-contact: hash grid cell size, distance kept between layers,
+    // buckets of the hash table (a power of two).
+    contact_cell: f32,
+    contact_thickness: f32,
+    contact_buckets: u32,
+    // Coulomb friction between layers.
+    contact_static: f32,
+    contact_kinetic: f32,
+    // 1 while the fold progress is held: driven creases stiffen.
+    fold_held: u32,
+    // Always 0, unknown to the compiler (momentum.wgsl).
+    opaque_zero: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
+    pad3: u32,
+}
+
+// The slice of a constraint array one dispatch works on (one colour;
+// crate::data::Range).
+struct Range {
+    first: u32,
+    count: u32,
+}
+
+// A distance constraint (crate::constraint::DistanceConstraint). Jacobi PBD
+// (jacobi.wgsl) carries its stiffness in [0, 1] in `compliance` and reads
+// neither `slot` nor `max_stretch`.
+struct Distance {
+    a: u32,
+    b: u32,
+    rest_length: f32,
+    compliance: f32,
+    slot: u32,
+    // Largest change of length (m); f32::MAX for no limit.
+    max_stretch: f32,
+}
+
+// Dihedral bending (crate::constraint::DihedralBending).
+struct Bending {
+    v: array<u32, 4>,
+    rest_angle: f32,
+    compliance: f32,
+    slot: u32,
+}
+
+// Isometric bending (crate::constraint::IsometricBending).
+struct Isometric {
+    v: array<u32, 4>,
+    k: array<f32, 4>,
+    compliance: f32,
+    slot: u32,
+}
+
+// An origami hinge (crate::constraint::OrigamiHinge).
+struct Hinge {
+    v: array<u32, 4>,
+    full_angle: f32,
+    compliance: f32,
+    angle: f32,
+    slot: u32,
+}
+
+// A long-range attachment (crate::constraint::Tether).
+struct Tether {
+    particle: u32,
+    pin: u32,
+    max_length: f32,
+}
+
+// A soft attachment (crate::data::Attachment).
+struct Attachment {
+    particle: u32,
+    compliance: f32,
+    // Index among the pins' targets of a substep.
+    slot: u32,
+    pad: u32,
+}
+
+// A collider shape (crate::data::GpuCollider).
+struct Collider {
+    kind: u32,
+    sdf_offset: u32,
+    static_friction: f32,
+    kinetic_friction: f32,
+    // Plane: point, normal. Sphere: centre, w radius. Box: centre, half
+    // extents, rotation (x, y, z, w). Capsule: a with w radius, b.
+    // Distance field: origin with w cell size, dims in `dims`.
+    a: vec4<f32>,
+    b: vec4<f32>,
+    c: vec4<f32>,
+    dims: vec4<u32>,
+}
+
+// Rows of the 3 x 4 matrices of an affine map.
+struct Affine {
+    r0: vec4<f32>,
+    r1: vec4<f32>,
+    r2: vec4<f32>,
+}
+
+// A collider's placement over a substep (crate::data::GpuPose).
+struct Pose {
+    start: Affine,
+    end: Affine,
+    start_inverse: Affine,
+    end_inverse: Affine,
+}
+
+// The health reduction's result (crate::health::Summary).
+struct Summary {
+    non_finite: u32,
+    first_bad: u32,
+    fastest: u32,
+    speed2: f32,
+    kinetic: f32,
+    potential: f32,
+    strain: f32,
+    pad: u32,
+}
+
+// A paper edge whose strain counts as a tear (crate::health::PaperEdge).
+struct PaperEdge {
+    a: u32,
+    b: u32,
+    rest_length: f32,
+    pad: u32,
+}

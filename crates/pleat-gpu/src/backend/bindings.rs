@@ -1,0 +1,221 @@
+//! Pipelines and bind groups: every kernel with its buffers bound
+//! ([`Stages`]), rebuilt when the per-substep buffers grow.
+
+use super::projection::ConstraintKind;
+use super::resources::{KernelBuffers, PerSubstep};
+use super::GpuBackend;
+use crate::buffers::{entry, sized_entry, zeroed};
+use crate::data::{Params, Range};
+use crate::kernels::Kernels;
+
+/// One kernel with its buffers bound, and the slices it is dispatched on.
+pub(super) struct Stage {
+    pub(super) pipeline: wgpu::ComputePipeline,
+    pub(super) bind_group: wgpu::BindGroup,
+    /// Dynamic offset into the range buffer and invocation count, per dispatch.
+    pub(super) dispatches: Vec<(u32, u32)>,
+}
+
+/// The self-contact kernels with their bind group.
+pub(super) struct SelfContactStage {
+    pub(super) bind_group: wgpu::BindGroup,
+    /// clear, count, scan_blocks, scan_sums, scan_add, scatter, contacts, apply.
+    pub(super) pipelines: [wgpu::ComputePipeline; 8],
+    pub(super) buckets: u32,
+}
+
+/// Every kernel with its bind group, in the order a substep runs them.
+pub(super) struct Stages {
+    pub(super) state: wgpu::BindGroup,
+    pub(super) wind: [Stage; 2],
+    /// Kernels of the state alone (group 0).
+    pub(super) predict: wgpu::ComputePipeline,
+    pub(super) pins: Option<Stage>,
+    /// In projection order: hinges, distances, bending, isometric, soft attachments, tethers.
+    pub(super) constraints: Vec<Stage>,
+    /// The distances' strain limits alone.
+    pub(super) strain_limit: Option<StrainLimitStages>,
+    pub(super) track: Option<Stage>,
+    pub(super) grab: wgpu::ComputePipeline,
+    pub(super) self_contact: Option<SelfContactStage>,
+    pub(super) collide: Option<Stage>,
+    pub(super) update_velocities: wgpu::ComputePipeline,
+}
+
+/// The strain limits' sweeps after the iterations, as the CPU runs them
+/// (`Xpbd`'s `sweep_strain_limits`): the first sweeps, the last of them
+/// noting whether an edge is beyond [`pleat::solver::xpbd::STRAIN_LIMIT_SLACK`]
+/// times its limit, then while one is, further sweeps up to
+/// [`pleat::solver::xpbd::MAX_STRAIN_LIMIT_SWEEPS`] in all. The further
+/// sweeps run in one workgroup of one dispatch, a barrier between
+/// colours, so that they stop themselves with no read back; a sheet that
+/// is not jammed pays one empty dispatch.
+/// The held limits are met in one such dispatch too.
+pub(super) struct StrainLimitStages {
+    pub(super) sweep: Stage,
+    pub(super) measured: Stage,
+    pub(super) further: Stage,
+    pub(super) held: Stage,
+    pub(super) sweeps: u32,
+}
+
+impl Stages {
+    pub(super) fn new(
+        device: &wgpu::Device,
+        kernels: &Kernels,
+        [pos, prev, vel, compliances]: [&wgpu::Buffer; 4],
+        b: &KernelBuffers,
+        per_substep: &PerSubstep,
+        ranges: &wgpu::Buffer,
+    ) -> Self {
+        let state = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("state"),
+            layout: &kernels.state_layout,
+            entries: &[
+                entry(0, pos),
+                entry(1, prev),
+                entry(2, vel),
+                sized_entry(3, &per_substep.params, size_of::<Params>()),
+                entry(4, compliances),
+            ],
+        });
+        let group = |buffers: [&wgpu::Buffer; 4]| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: None,
+                layout: &kernels.kernel_layout,
+                entries: &[
+                    entry(0, buffers[0]),
+                    entry(1, buffers[1]),
+                    entry(2, buffers[2]),
+                    entry(3, buffers[3]),
+                    sized_entry(4, ranges, size_of::<Range>()),
+                ],
+            })
+        };
+        let stage = |pipeline: &wgpu::ComputePipeline, buffers, dispatches| Stage {
+            pipeline: pipeline.clone(),
+            bind_group: group(buffers),
+            dispatches,
+        };
+        // Fillers for the slots a kernel does not use: WebGPU forbids one
+        // buffer in two writable slots of a group.
+        let spare = [0, 1, 2].map(|_| zeroed(device, "unused slot", 16));
+        let wind_buffers = [&b.triangles, &b.triangle_force, &b.around_start, &b.around];
+        let constraints = b
+            .constraints
+            .iter()
+            .filter(|k| !k.dispatches.is_empty())
+            .map(|k| {
+                let pipeline = match k.kind {
+                    ConstraintKind::Hinge => &kernels.hinge,
+                    ConstraintKind::Distance => &kernels.distance,
+                    ConstraintKind::Bending => &kernels.bending,
+                    ConstraintKind::Isometric => &kernels.isometric,
+                    ConstraintKind::Attachment => &kernels.attachment,
+                    ConstraintKind::Tether => &kernels.tether,
+                    ConstraintKind::JacobiCorrect => &kernels.jacobi_correct,
+                    ConstraintKind::JacobiGather => &kernels.jacobi_gather,
+                };
+                let [third, fourth] = match &k.extra {
+                    Some([a, b]) => [a, b],
+                    None => [&per_substep.targets, &spare[0]],
+                };
+                stage(
+                    pipeline,
+                    [&k.items, &k.lambda, third, fourth],
+                    k.dispatches.clone(),
+                )
+            })
+            .collect();
+        let hinges = b
+            .constraints
+            .iter()
+            .find(|k| k.kind == ConstraintKind::Hinge)
+            .map_or(pos, |k| &k.items);
+        let strain_limit = b
+            .constraints
+            .iter()
+            .find(|k| k.kind == ConstraintKind::Distance)
+            .zip(b.strain_limit.as_ref())
+            .map(|(k, limits)| {
+                let buffers = [&k.items, &k.lambda, &limits.colours, &limits.beyond];
+                let [sweep, measured, further, held] = kernels
+                    .distance_limit
+                    .each_ref()
+                    .map(|pipeline| stage(pipeline, buffers, k.dispatches.clone()));
+                StrainLimitStages {
+                    sweep,
+                    measured,
+                    further,
+                    held,
+                    sweeps: limits.sweeps,
+                }
+            });
+        Stages {
+            wind: [
+                stage(&kernels.triangle_forces, wind_buffers, vec![b.whole]),
+                stage(&kernels.gather, wind_buffers, vec![b.whole]),
+            ],
+            predict: kernels.predict.clone(),
+            pins: (b.pin_dispatch.1 > 0).then(|| {
+                stage(
+                    &kernels.place_pins,
+                    [&b.hard_pins, &spare[0], &per_substep.targets, &spare[1]],
+                    vec![b.pin_dispatch],
+                )
+            }),
+            constraints,
+            strain_limit,
+            track: (b.track_dispatch.1 > 0).then(|| {
+                stage(
+                    &kernels.track,
+                    [hinges, &spare[0], &spare[1], &spare[2]],
+                    vec![b.track_dispatch],
+                )
+            }),
+            grab: kernels.grab.clone(),
+            self_contact: b.self_contact.as_ref().map(|c| SelfContactStage {
+                bind_group: group([&c.grid, &c.topology, &c.rest, &c.accum]),
+                pipelines: kernels.self_contact.clone(),
+                buckets: c.buckets,
+            }),
+            collide: (!b.collider_shapes.is_empty()).then(|| {
+                stage(
+                    &kernels.resolve,
+                    [
+                        &b.colliders,
+                        &per_substep.poses,
+                        &b.sdf_values,
+                        &b.thickness,
+                    ],
+                    vec![b.whole],
+                )
+            }),
+            update_velocities: kernels.update_velocities.clone(),
+            state,
+        }
+    }
+}
+
+impl GpuBackend {
+    /// Grows the per-substep buffers and the timestamp queries to hold
+    /// `substeps` substeps.
+    pub(super) fn reserve(&mut self, substeps: u32) {
+        let device = &self.context.device;
+        if let Some(t) = &mut self.timestamps {
+            t.reserve(device, substeps);
+        }
+        if substeps <= self.per_substep.capacity {
+            return;
+        }
+        self.per_substep = PerSubstep::new(device, &self.counts, substeps);
+        self.stages = Stages::new(
+            device,
+            &self.kernels,
+            [&self.pos, &self.prev, &self.vel, &self.compliance_table],
+            &self.buffers,
+            &self.per_substep,
+            &self.ranges,
+        );
+    }
+}

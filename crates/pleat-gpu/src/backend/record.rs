@@ -1,0 +1,283 @@
+//! Per-frame recording: the frame's uniforms (parameters, pin targets,
+//! collider poses, compliances, friction) written, then its substeps
+//! recorded as compute passes and submitted.
+
+use super::bindings::{SelfContactStage, Stage, StrainLimitStages};
+use super::GpuBackend;
+use crate::data::{self, GpuPose, Params};
+use crate::kernels::{workgroups, COMPLIANCE_SLOTS, UNIFORM_STRIDE};
+use crate::timing::TimedStage;
+use pleat::collide::ColliderPose;
+use pleat::constraint::Compliances;
+use pleat::control::Control;
+use pleat::solver::{substep_times, SolverSettings, StageTimes};
+use pleat::World;
+
+/// The per-substep parameters, pin targets and collider poses of a frame,
+/// written on the CPU before upload.
+#[derive(Default)]
+pub(super) struct FrameData {
+    /// One [`Params`] every [`UNIFORM_STRIDE`] bytes.
+    pub(super) params: Vec<u8>,
+    pub(super) targets: Vec<[f32; 4]>,
+    pub(super) poses: Vec<GpuPose>,
+    /// The live compliance table, [`COMPLIANCE_SLOTS`] long.
+    pub(super) compliances: Vec<f32>,
+}
+
+impl SelfContactStage {
+    /// Builds the hash grid and solves the contacts of `particles` particles.
+    fn record(&self, pass: &mut wgpu::ComputePass<'_>, particles: u32) {
+        let [clear, count, scan_blocks, scan_sums, scan_add, scatter, contacts, apply] =
+            &self.pipelines;
+        pass.set_bind_group(1, &self.bind_group, &[0]);
+        let over = |pass: &mut wgpu::ComputePass<'_>, pipeline, n: u32| {
+            pass.set_pipeline(pipeline);
+            let (x, y) = workgroups(n);
+            pass.dispatch_workgroups(x, y, 1);
+        };
+        over(pass, clear, (2 * self.buckets).max(4 * particles));
+        over(pass, count, particles);
+        pass.set_pipeline(scan_blocks);
+        pass.dispatch_workgroups(self.buckets / crate::kernels::WORKGROUP, 1, 1);
+        pass.set_pipeline(scan_sums);
+        pass.dispatch_workgroups(1, 1, 1);
+        over(pass, scan_add, self.buckets);
+        over(pass, scatter, particles);
+        over(pass, contacts, particles);
+        over(pass, apply, particles);
+    }
+}
+
+impl StrainLimitStages {
+    fn record(&self, pass: &mut wgpu::ComputePass<'_>) {
+        for _ in 1..self.sweeps {
+            dispatch(pass, &self.sweep, None);
+        }
+        dispatch(pass, &self.measured, None);
+        dispatch(pass, &self.further, Some(1));
+    }
+}
+
+impl GpuBackend {
+    /// Gives paper the strain limits of a fold held or moving, writes the
+    /// frame's uniforms, records its substeps (the held limits first where
+    /// the fold came to rest) and the health reduction, and
+    /// submits them; `stages` takes the GPU times of earlier frames.
+    pub(super) fn record_frame(
+        &mut self,
+        world: &World,
+        (settings, compliances): (&SolverSettings, &Compliances),
+        control: &Control,
+        stages: &mut StageTimes,
+    ) {
+        let frame_dt = control.frame_dt;
+        if let Some(t) = &mut self.timestamps {
+            t.collect(stages);
+        }
+        self.hold_fold(control.fold.held);
+        let substeps = self.write_frame(world, (settings, compliances), control);
+        if let Some(t) = &mut self.timestamps {
+            t.begin_frame(&self.context.device, substeps);
+        }
+        let mut encoder =
+            self.context
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("frame"),
+                });
+        let came_to_rest = self
+            .fold_limits
+            .as_mut()
+            .is_some_and(|(limits, _)| limits.take_came_to_rest());
+        if came_to_rest {
+            self.record_held_limits(&mut encoder);
+        }
+        for s in 0..substeps {
+            for lambda in &self.lambdas {
+                encoder.clear_buffer(lambda, 0, None);
+            }
+            self.record_substep(&mut encoder, s, (world, control), settings.iterations);
+        }
+        let last = (substeps - 1) * UNIFORM_STRIDE as u32;
+        self.health.record(
+            &mut encoder,
+            (&self.stages.state, last),
+            world.time + frame_dt,
+        );
+        if let Some(t) = &self.timestamps {
+            t.resolve(&mut encoder, substeps);
+        }
+        self.context.queue.submit([encoder.finish()]);
+        self.health.request();
+        if let Some(t) = &mut self.timestamps {
+            t.request(substeps);
+        }
+        // Frees the resources of finished frames without waiting.
+        let _ = self.context.device.poll(wgpu::PollType::Poll);
+    }
+
+    /// Writes the parameters, pin targets and collider poses of every
+    /// substep of the frame, and the live compliances and friction.
+    fn write_frame(
+        &mut self,
+        world: &World,
+        (settings, table): (&SolverSettings, &Compliances),
+        control: &Control,
+    ) -> u32 {
+        let frame_dt = control.frame_dt;
+        let substeps = settings.substeps.max(1);
+        self.reserve(substeps);
+        let FrameData {
+            params,
+            targets,
+            poses,
+            compliances,
+        } = &mut self.frame_data;
+        table.write_to(compliances);
+        compliances.resize(COMPLIANCE_SLOTS, 0.0);
+        params.clear();
+        params.resize((substeps as u64 * UNIFORM_STRIDE) as usize, 0);
+        targets.clear();
+        poses.clear();
+        for (s, (t, dt)) in substep_times(world.time, frame_dt, substeps).enumerate() {
+            let p = Params::at(world, settings, &self.counts, control, (s as u32, t, dt));
+            let at = s * UNIFORM_STRIDE as usize;
+            params[at..at + size_of::<Params>()].copy_from_slice(bytemuck::bytes_of(&p));
+            for a in self.hard_pins.iter_mut().chain(self.soft_pins.iter_mut()) {
+                a.update_target(t + dt);
+                targets.push(a.target.extend(0.0).to_array());
+            }
+            poses.extend(
+                world
+                    .colliders
+                    .iter()
+                    .map(|c| GpuPose::from(ColliderPose::over(c, t, t + dt))),
+            );
+        }
+        let queue = &self.context.queue;
+        queue.write_buffer(&self.per_substep.params, 0, params);
+        queue.write_buffer(&self.compliance_table, 0, bytemuck::cast_slice(compliances));
+        if !targets.is_empty() {
+            queue.write_buffer(&self.per_substep.targets, 0, bytemuck::cast_slice(targets));
+        }
+        if !poses.is_empty() {
+            queue.write_buffer(&self.per_substep.poses, 0, bytemuck::cast_slice(poses));
+        }
+        let shapes = &mut self.buffers.collider_shapes;
+        if data::refresh_friction(shapes, world) {
+            queue.write_buffer(&self.buffers.colliders, 0, bytemuck::cast_slice(shapes));
+        }
+        substeps
+    }
+
+    /// Sweeps of the strain limits over the positions alone, before the
+    /// frame's first prediction, until no edge is beyond its limit (up to
+    /// [`pleat::solver::xpbd::FOLD_HOLD_SWEEPS`], in one dispatch): the velocities stay as they
+    /// are ([`pleat::solver::xpbd::XpbdConstraints::meet_held_limits`]).
+    fn record_held_limits(&self, encoder: &mut wgpu::CommandEncoder) {
+        let Some(limits) = &self.stages.strain_limit else {
+            return;
+        };
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("held fold limits"),
+            timestamp_writes: None,
+        });
+        pass.set_bind_group(0, &self.stages.state, &[0]);
+        dispatch(&mut pass, &limits.held, Some(1));
+    }
+
+    /// Records one substep as four passes (stamped where the adapter has
+    /// timestamps): prediction, constraints, self-contacts, collisions.
+    fn record_substep(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        s: u32,
+        (world, control): (&World, &Control),
+        iterations: u32,
+    ) {
+        let st = &self.stages;
+        let particles = self.counts.particles;
+        let mut pass = |stage: TimedStage, record: &mut dyn FnMut(&mut wgpu::ComputePass<'_>)| {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("substep"),
+                timestamp_writes: self.timestamps.as_ref().and_then(|t| t.writes(s, stage)),
+            });
+            pass.set_bind_group(0, &st.state, &[s * UNIFORM_STRIDE as u32]);
+            record(&mut pass);
+        };
+        pass(TimedStage::Predict, &mut |pass| {
+            if world.wind.is_some() {
+                dispatch(pass, &st.wind[0], Some(self.counts.triangles));
+                dispatch(pass, &st.wind[1], Some(particles));
+            }
+            over_particles(pass, &st.predict, particles);
+            if let Some(pins) = &st.pins {
+                dispatch(pass, pins, None);
+            }
+        });
+        pass(TimedStage::Constraints, &mut |pass| {
+            for _ in 0..iterations {
+                for stage in &st.constraints {
+                    dispatch(pass, stage, None);
+                }
+            }
+            if let Some(limits) = &st.strain_limit {
+                limits.record(pass);
+            }
+            if let Some(momentum) = &self.momentum {
+                momentum.record(pass);
+            }
+            if let Some(track) = &st.track {
+                dispatch(pass, track, None);
+            }
+            if control.grab.is_some() {
+                pass.set_pipeline(&st.grab);
+                pass.dispatch_workgroups(1, 1, 1);
+            }
+        });
+        pass(TimedStage::SelfContacts, &mut |pass| {
+            if let Some(contact) = &st.self_contact {
+                contact.record(pass, particles);
+            }
+        });
+        pass(TimedStage::Collisions, &mut |pass| {
+            if let Some(collide) = &st.collide {
+                dispatch(pass, collide, Some(particles));
+            }
+            over_particles(pass, &st.update_velocities, particles);
+        });
+    }
+}
+
+/// Dispatches a kernel of the state alone over `particles` invocations.
+fn over_particles(
+    pass: &mut wgpu::ComputePass<'_>,
+    pipeline: &wgpu::ComputePipeline,
+    particles: u32,
+) {
+    pass.set_pipeline(pipeline);
+    let (x, y) = workgroups(particles);
+    pass.dispatch_workgroups(x, y, 1);
+}
+
+/// Dispatches `stage` over each of its slices, or over `count` invocations.
+pub(super) fn dispatch(pass: &mut wgpu::ComputePass<'_>, stage: &Stage, count: Option<u32>) {
+    pass.set_pipeline(&stage.pipeline);
+    match count {
+        Some(count) => {
+            if let Some(&(offset, _)) = stage.dispatches.first() {
+                pass.set_bind_group(1, &stage.bind_group, &[offset]);
+            }
+            let (x, y) = workgroups(count);
+            pass.dispatch_workgroups(x, y, 1);
+        }
+        None => {
+            for &(offset, count) in &stage.dispatches {
+                pass.set_bind_group(1, &stage.bind_group, &[offset]);
+                let (x, y) = workgroups(count);
+                pass.dispatch_workgroups(x, y, 1);
+            }
+        }
+    }
+}
