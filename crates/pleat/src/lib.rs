@@ -10,6 +10,8 @@
 //! ([`stability`]), the small linear algebra glam lacks ([`math`]) and mesh
 //! export ([`export`]).
 
+#![warn(missing_docs)]
+
 pub mod backend;
 pub mod collide;
 pub mod constraint;

@@ -7,6 +7,7 @@ use super::{Constraint, Positions, Substep};
 use glam::Vec3;
 use std::ops::Range;
 
+/// A long-range attachment: a particle kept within its rest distance of a pin.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Tether {
@@ -14,6 +15,7 @@ pub struct Tether {
     pub particle: [u32; 1],
     /// The pinned particle it hangs from (read only).
     pub pin: u32,
+    /// The particle's rest distance from the pin: the farthest it may go (m).
     pub max_length: f32,
 }
 
