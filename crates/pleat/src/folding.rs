@@ -102,6 +102,8 @@ pub fn paper_simulation(sheet: &Sheet, ramp: FoldRamp) -> Simulation {
 pub struct HingeState {
     /// Global particle indices, as in [`Hinge::v`].
     pub v: [u32; 4],
+    /// Crease assignment of the hinge: mountain, valley, flat (a facet hinge)
+    /// or unassigned.
     pub assignment: Assignment,
     /// Fold angle now (radians in `(-pi, pi]`, valley positive); `None` for
     /// a degenerate pair.
@@ -154,13 +156,16 @@ pub fn hinge_states(model: &Model, x: &[Vec3], progress: f32) -> Vec<HingeState>
 /// is no hinge of that kind).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct FoldAngleErrors {
+    /// Mountain creases.
     pub mountain: f32,
+    /// Valley creases.
     pub valley: f32,
     /// Facet hinges, which should stay flat.
     pub flat: f32,
 }
 
 impl FoldAngleErrors {
+    /// The largest errors of `states`, kind by kind.
     pub fn of(states: &[HingeState]) -> Self {
         let worst = |kind: Assignment| {
             states
@@ -188,7 +193,9 @@ pub struct WorstHinge {
     /// Fold angle now, read on its target's side of +-180 degrees, and its
     /// target (degrees, valley positive).
     pub angle_deg: f32,
+    /// Its target (degrees, valley positive).
     pub target_deg: f32,
+    /// How far the angle is from its target (degrees, the short way round).
     pub error_deg: f32,
 }
 
@@ -231,6 +238,8 @@ pub struct WorstFacet {
 /// What a report says about the paper of a simulation.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct FoldMetrics {
+    /// Fold progress in `[0, 1]` last set: the fraction of their full angles
+    /// the creases are driven to.
     pub fold_progress: f32,
     /// Largest fold-angle error per kind of hinge (degrees).
     pub max_fold_angle_error_deg: FoldAngleErrors,

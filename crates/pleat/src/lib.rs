@@ -42,6 +42,8 @@
 //! assert!(!metrics.nan && metrics.max_stretch < 1.1);
 //! ```
 
+#![warn(missing_docs)]
+
 pub mod backend;
 pub mod collide;
 pub mod constraint;

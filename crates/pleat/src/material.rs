@@ -41,6 +41,8 @@ pub struct Material {
     pub max_strain: Option<f32>,
     /// Compliance of bending (rad^2/J for the angle models, m/N for skip-one).
     pub bend_compliance: f32,
+    /// How the cloth resists bending: `isometric` (the default), `dihedral` or
+    /// `skip_one`.
     pub bending: BendingModel,
     /// Distance kept from colliders (m).
     pub thickness: f32,

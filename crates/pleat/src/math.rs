@@ -11,8 +11,11 @@ const MAX_SWEEPS: usize = 24;
 /// `a = u * diag(sigma) * vᵀ`, singular values descending, `u` and `v` orthogonal.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Svd3 {
+    /// Left singular vectors, as columns.
     pub u: DMat3,
+    /// Singular values, descending and non-negative.
     pub sigma: DVec3,
+    /// Right singular vectors, as columns.
     pub v: DMat3,
 }
 

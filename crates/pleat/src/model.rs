@@ -12,18 +12,26 @@ use std::ops::Range;
 /// A particle held by an attachment: exactly (compliance 0) or softly.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pin {
+    /// The held particle: cloth-local when passed to [`Model::add_cloth`],
+    /// global in [`Model::pins`].
     pub particle: u32,
+    /// Inverse stiffness of the attachment (m/N); zero holds the particle
+    /// exactly.
     pub compliance: f32,
+    /// Script that moves the particle's target.
     pub motion: Motion,
 }
 
 /// One cloth inside the model.
 #[derive(Clone, Debug)]
 pub struct ClothPart {
+    /// Name of the cloth, from the scene.
     pub name: String,
     /// The mesh in its rest shape, with cloth-local indices.
     pub mesh: Mesh,
+    /// Unique edges and adjacent triangle pairs of the mesh.
     pub topology: Topology,
+    /// The cloth's material.
     pub material: Material,
     /// First particle of this cloth in the model.
     pub offset: u32,
@@ -38,6 +46,7 @@ pub struct ClothPart {
 }
 
 impl ClothPart {
+    /// The cloth's particles, as a range of global indices.
     pub fn particles(&self) -> Range<usize> {
         self.offset as usize..self.offset as usize + self.mesh.positions.len()
     }
@@ -85,21 +94,28 @@ fn gradient_weights(mesh: &Mesh, gradient: f32, pins: &[Pin]) -> Vec<f32> {
 /// An edge of the rest mesh, for stretch measurements.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RestEdge {
+    /// The two end particles (global indices).
     pub v: [u32; 2],
+    /// Length at rest (m).
     pub rest_length: f32,
 }
 
 /// All cloths of a simulation.
 #[derive(Clone, Debug, Default)]
 pub struct Model {
+    /// The cloths, in the order they were added.
     pub cloths: Vec<ClothPart>,
+    /// Rest positions of all particles (m).
     pub rest: Vec<Vec3>,
     /// Particle masses; zero for particles pinned with compliance zero.
     pub mass: Vec<f32>,
     /// Per particle: distance kept from colliders.
     pub thickness: Vec<f32>,
+    /// All triangles, in global indices.
     pub triangles: Vec<[u32; 3]>,
+    /// All unique edges with their rest lengths.
     pub edges: Vec<RestEdge>,
+    /// All pins, in global indices.
     pub pins: Vec<Pin>,
 }
 
@@ -150,6 +166,7 @@ impl Model {
         });
     }
 
+    /// Number of particles of all cloths.
     pub fn particle_count(&self) -> usize {
         self.rest.len()
     }

@@ -4,6 +4,8 @@
 
 use glam::{Affine3A, Quat, Vec3};
 
+/// Scripted rigid motion: constant linear velocity plus constant angular
+/// velocity about a pivot.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Motion {
     /// Metres per second.

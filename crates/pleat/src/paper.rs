@@ -106,7 +106,10 @@ impl Default for PaperStiffness {
 /// The hinges of a paper part, in cloth-local indices.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Paper {
+    /// The hinges of the part: its creases and the facet hinges that keep
+    /// facets flat.
     pub hinges: Vec<Hinge>,
+    /// Compliance of the creases and of the facet hinges.
     pub stiffness: PaperStiffness,
 }
 
@@ -166,6 +169,7 @@ pub fn paper_material() -> Material {
 /// `frames` frames, then held.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FoldRamp {
+    /// Fold progress in `[0, 1]` reached at the end of the ramp.
     pub progress: f32,
     /// Zero sets the progress at once.
     pub frames: u32,

@@ -10,6 +10,7 @@ pub struct Particles {
     pub x: Vec<Vec3>,
     /// Positions at the start of the current substep.
     pub x_prev: Vec<Vec3>,
+    /// Velocities (m/s).
     pub v: Vec<Vec3>,
     /// Inverse masses; zero for pinned (kinematic) particles.
     pub inv_mass: Vec<f32>,
@@ -30,10 +31,12 @@ impl Particles {
         }
     }
 
+    /// Number of particles.
     pub fn len(&self) -> usize {
         self.x.len()
     }
 
+    /// Whether there are no particles.
     pub fn is_empty(&self) -> bool {
         self.x.is_empty()
     }

@@ -13,7 +13,10 @@ use crate::solver::{SolverSettings, StageTimes};
 use crate::stability::StabilityMonitor;
 use crate::world::World;
 
+/// A running simulation: the model, the world, the particles and the backend
+/// that advances them.
 pub struct Simulation {
+    /// The cloths: rest shapes, masses, topology, materials and pins.
     pub model: Model,
     /// Gravity, wind and colliders: read at every step.
     pub world: World,
@@ -25,6 +28,7 @@ pub struct Simulation {
     /// Read at every step: each cloth's compliances (stretch, shear,
     /// bending, creases, facets) change live, keeping the state.
     pub compliances: Compliances,
+    /// Wall-clock time per stage of the steps so far.
     pub stages: StageTimes,
     /// Fold progress animated over the first frames (origami); `None`
     /// leaves it where [`Simulation::set_fold_progress`] put it.
@@ -219,6 +223,7 @@ impl Simulation {
         self.fold_progress
     }
 
+    /// Number of constraints (or springs) the backend projects per iteration.
     pub fn constraint_count(&self) -> usize {
         self.backend.constraint_count()
     }

@@ -128,6 +128,7 @@ impl StabilityMonitor {
         }
     }
 
+    /// Whether an instability has been found.
     pub fn is_unstable(&self) -> bool {
         self.first.is_some()
     }
@@ -282,12 +283,14 @@ pub struct RestExtent {
     pub mass: f32,
     /// Diagonal of the rest shape's bounding box (m).
     pub size: f32,
+    /// Centre of the rest shape's bounding box (m).
     pub centre: Vec3,
     /// Elastic energy the driven creases of paper parts can release (J).
     pub crease_energy: f32,
 }
 
 impl RestExtent {
+    /// The extent of `model`'s rest shape.
     pub fn of(model: &Model) -> Self {
         let (lo, hi) = model.rest.iter().fold(
             (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),

@@ -4,10 +4,14 @@ use crate::collide::Collider;
 use crate::force::Wind;
 use glam::Vec3;
 
+/// The world the cloth lives in: gravity, wind, colliders and the clock.
 #[derive(Clone, Debug)]
 pub struct World {
+    /// Gravitational acceleration (m/s^2).
     pub gravity: Vec3,
+    /// Wind on the cloth; `None` for still air.
     pub wind: Option<Wind>,
+    /// The rigid obstacles: static, kinematic or dynamic.
     pub colliders: Vec<Collider>,
     /// Simulated time at the start of the next step (s).
     pub time: f32,

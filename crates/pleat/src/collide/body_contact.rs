@@ -34,7 +34,10 @@ use rayon::prelude::*;
 /// One particle's contact with the body being solved.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct ParticleHit {
+    /// Unit outward normal of the body's surface at the contact (world).
     pub normal: Vec3,
+    /// Penetration: the particle's thickness less its distance to the body's
+    /// surface (m).
     pub depth: f32,
     /// Contact point on the body's surface, from its centre of mass.
     pub r: Vec3,

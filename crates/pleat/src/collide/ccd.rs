@@ -19,7 +19,9 @@ const MAX_STEPS: usize = 40;
 /// Positions of one point at the start and end of the substep.
 #[derive(Clone, Copy, Debug)]
 pub struct Sweep {
+    /// Position at the start of the substep.
     pub start: Vec3,
+    /// Position at the end of the substep.
     pub end: Vec3,
 }
 
@@ -27,7 +29,9 @@ pub struct Sweep {
 /// barycentric coordinates of the hit point on the triangle.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hit {
+    /// Time of the hit as a fraction of the substep, in `[0, 1]`.
     pub t: f32,
+    /// Barycentric coordinates of the hit point on the triangle `abc`.
     pub barycentric: [f32; 3],
 }
 
@@ -51,8 +55,11 @@ pub fn vertex_triangle(p: Sweep, a: Sweep, b: Sweep, c: Sweep) -> Option<Hit> {
 /// meeting point along each edge (`0` at its first end, `1` at its second).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EdgeHit {
+    /// Time of the meeting as a fraction of the substep, in `[0, 1]`.
     pub t: f32,
+    /// Parameter of the meeting point along the first edge.
     pub s: f32,
+    /// Parameter of the meeting point along the second edge.
     pub u: f32,
 }
 

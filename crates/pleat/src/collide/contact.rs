@@ -12,9 +12,13 @@ use rayon::prelude::*;
 /// A collider's placement over one substep: where it starts and where it ends.
 #[derive(Clone, Copy, Debug)]
 pub struct ColliderPose {
+    /// Placement at the start of the substep (time-zero coordinates to world).
     pub start: Affine3A,
+    /// Placement at the end of the substep.
     pub end: Affine3A,
+    /// Inverse of `end`: world to time-zero coordinates.
     pub end_inverse: Affine3A,
+    /// Inverse of `start`.
     pub start_inverse: Affine3A,
 }
 

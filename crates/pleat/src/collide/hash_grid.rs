@@ -13,7 +13,9 @@ use glam::{IVec3, Vec3};
 /// An axis-aligned box.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Aabb {
+    /// The lowest corner.
     pub min: Vec3,
+    /// The highest corner.
     pub max: Vec3,
 }
 
@@ -46,6 +48,7 @@ impl Aabb {
         }
     }
 
+    /// The smallest box containing both.
     pub fn union(self, o: Aabb) -> Aabb {
         Aabb {
             min: self.min.min(o.min),
@@ -53,10 +56,12 @@ impl Aabb {
         }
     }
 
+    /// Whether the two boxes share a point (closed boxes: touching counts).
     pub fn overlaps(&self, o: &Aabb) -> bool {
         self.min.cmple(o.max).all() && o.min.cmple(self.max).all()
     }
 
+    /// Whether `p` lies in the box or on its boundary.
     pub fn contains(&self, p: Vec3) -> bool {
         self.min.cmple(p).all() && p.cmple(self.max).all()
     }

@@ -86,7 +86,9 @@ const MAX_CELLS: usize = 1 << 18;
 /// A closed axis-aligned box.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Aabb {
+    /// The lowest corner.
     pub min: Vec3,
+    /// The highest corner.
     pub max: Vec3,
 }
 
@@ -103,6 +105,7 @@ impl Aabb {
         })
     }
 
+    /// Whether `p` lies in the box or on its boundary.
     pub fn contains(&self, p: Vec3) -> bool {
         self.min.cmple(p).all() && p.cmple(self.max).all()
     }
@@ -154,6 +157,7 @@ struct Node {
 pub struct SegmentHit {
     /// Fraction of the way from the segment's start, in `[0, 1]`.
     pub t: f32,
+    /// The crossing point.
     pub point: Vec3,
     /// Index into the collider's triangles.
     pub triangle: usize,
@@ -181,9 +185,11 @@ impl Node {
 /// The point of the mesh nearest a query point.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Closest {
+    /// The nearest point on the mesh.
     pub point: Vec3,
     /// Index into the collider's triangles.
     pub triangle: usize,
+    /// Squared distance from the query point to `point` (m^2).
     pub distance_squared: f32,
 }
 

@@ -51,8 +51,11 @@ impl Default for Friction {
 /// contacts (dynamic).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Collider {
+    /// The shape, in its time-zero placement.
     pub shape: Shape,
+    /// Scripted motion of a static or kinematic collider.
     pub motion: Motion,
+    /// Coulomb friction against the cloth.
     pub friction: Friction,
     /// Mass properties and state of a dynamic collider; `motion` is then unused.
     pub body: Option<RigidBody>,

@@ -6,27 +6,40 @@ use super::sdf::SdfGrid;
 use glam::{Quat, Vec3};
 use std::sync::Arc;
 
+/// A collider's shape in its time-zero placement, with a signed distance
+/// (negative inside).
 #[derive(Clone, Debug, PartialEq)]
 pub enum Shape {
     /// Half-space below the plane through `point` with outward `normal`.
     Plane {
+        /// A point on the plane.
         point: Vec3,
+        /// Unit outward normal.
         normal: Vec3,
     },
+    /// A solid sphere.
     Sphere {
+        /// Centre.
         center: Vec3,
+        /// Radius (m).
         radius: f32,
     },
     /// Oriented box.
     Box {
+        /// Centre.
         center: Vec3,
+        /// Half the box's size along its own axes (m).
         half_extents: Vec3,
+        /// Rotation of the box's axes.
         rotation: Quat,
     },
     /// Segment `a`-`b` swept by a sphere of `radius`.
     Capsule {
+        /// One end of the segment.
         a: Vec3,
+        /// The other end of the segment.
         b: Vec3,
+        /// Radius of the swept sphere (m).
         radius: f32,
     },
     /// A triangle mesh, queried through its hierarchy (shared, not copied).

@@ -11,18 +11,24 @@ use super::xpbd::{lagrange_update, position_step};
 use crate::motion::Motion;
 use glam::Vec3;
 
+/// A particle attached to a scripted target (a pin), hard or soft.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Attachment {
+    /// The attached particle.
     pub particle: [u32; 1],
     /// Target at time zero; it moves with `motion`.
     pub anchor: Vec3,
+    /// Script that moves the target from `anchor`.
     pub motion: Motion,
+    /// Inverse stiffness (m/N); zero holds the particle on the target exactly.
     pub compliance: f32,
     /// Target at the end of the current substep (set by [`Attachment::update_target`]).
     pub target: Vec3,
 }
 
 impl Attachment {
+    /// An attachment of `particle` to `anchor`, moved by `motion`, with
+    /// `compliance` (m/N).
     pub fn new(particle: u32, anchor: Vec3, motion: Motion, compliance: f32) -> Self {
         Attachment {
             particle: [particle],
@@ -73,7 +79,9 @@ impl Constraint for Attachment {
 /// stays where its pin holds it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Grab {
+    /// The grabbed particle.
     pub particle: u32,
+    /// Where the particle is pulled (m, world).
     pub target: Vec3,
     /// Inverse stiffness (m/N); zero puts the particle on the target.
     pub compliance: f32,

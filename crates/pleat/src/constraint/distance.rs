@@ -8,10 +8,13 @@ use super::projection::{sealed::Sealed, Constraint, Substep};
 use super::xpbd::{alpha_tilde, lagrange_update, position_step};
 use glam::Vec3;
 
+/// A distance constraint between two particles, with an optional strain limit.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct DistanceConstraint {
+    /// The two end particles.
     pub v: [u32; 2],
+    /// Distance at rest (m).
     pub rest_length: f32,
     /// Inverse stiffness (m/N), a factor of the table entry `slot`; zero is inextensible.
     pub compliance: f32,

@@ -18,9 +18,11 @@ use glam::{Vec3, Vec3A};
 /// Folds below this (radians) are left alone: their direction is round-off.
 const FLAT_ENOUGH: f32 = 1e-6;
 
+/// Isometric bending of a pair of adjacent triangles, flat at rest.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct IsometricBending {
+    /// The stencil: the shared edge `v[0], v[1]`, then the wings `v[2], v[3]`.
     pub v: [u32; 4],
     /// Cotangent weights divided by the rest edge length.
     pub k: [f32; 4],

@@ -20,6 +20,7 @@ const PINNED_WEIGHT: f32 = 1e4;
 /// A group of `N` particles kept in its rest shape.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ShapeMatching<const N: usize> {
+    /// The group's particles.
     pub v: [u32; N],
     /// Rest offsets `q_i` from the weighted rest centroid.
     pub rest_offsets: [Vec3; N],

@@ -8,6 +8,7 @@ use super::projection::{sealed::Sealed, Constraint, Substep};
 use glam::Vec3;
 use std::ops::Range;
 
+/// A long-range attachment: a particle kept within its rest distance of a pin.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Tether {
@@ -15,6 +16,7 @@ pub struct Tether {
     pub particle: [u32; 1],
     /// The pinned particle it hangs from (read only).
     pub pin: u32,
+    /// The particle's rest distance from the pin: the farthest it may go (m).
     pub max_length: f32,
 }
 

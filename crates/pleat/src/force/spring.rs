@@ -5,9 +5,12 @@
 
 use glam::Vec3;
 
+/// A damped Hookean spring between two particles.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Spring {
+    /// The two end particles.
     pub v: [u32; 2],
+    /// Length at rest (m).
     pub rest_length: f32,
     /// ks (N/m).
     pub stiffness: f32,

@@ -20,7 +20,11 @@ use serde::{Deserialize, Serialize};
 pub struct Wind {
     /// Mean air velocity (m/s).
     pub velocity: Vec3,
+    /// Drag coefficient C_D (dimensionless): the force against the relative air
+    /// velocity, `C_D |cos| rho A |u|^2 / 2`; default 1.
     pub drag: f32,
+    /// Lift coefficient C_L (dimensionless): the force across the relative air
+    /// velocity, `C_L cos rho A |u|^2 / 2`; default 0.5.
     pub lift: f32,
     /// kg/m^3.
     pub air_density: f32,
@@ -97,6 +101,8 @@ pub struct WindForces {
 }
 
 impl WindForces {
+    /// Empty forces and the vertex-to-triangle adjacency of `triangles` over
+    /// `vertex_count` vertices.
     pub fn new(triangles: &[[u32; 3]], vertex_count: usize) -> Self {
         let incidence = Incidence::new(triangles, vertex_count, |t| t.as_slice());
         let (start, slots) = incidence.rows();

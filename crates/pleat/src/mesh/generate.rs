@@ -37,7 +37,9 @@ pub const MAX_SUBDIVISIONS: u32 = 7;
 /// `rotation * y`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TorusKnot {
+    /// Centre of the knot.
     pub center: Vec3,
+    /// Turns the knot's axis from y to `rotation * y`.
     pub rotation: Quat,
     /// Major radius of the torus the centre line winds on (its minor radius is half this).
     pub radius: f32,
@@ -246,8 +248,11 @@ impl TorusKnot {
 /// `subdivisions` times, and pushing the vertices onto the sphere.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Icosphere {
+    /// Centre of the sphere.
     pub center: Vec3,
+    /// Radius of the sphere (m).
     pub radius: f32,
+    /// Times each triangle of the icosahedron is split in four.
     pub subdivisions: u32,
 }
 

@@ -22,9 +22,13 @@ pub enum GridOrientation {
 /// Parameters of a grid mesh.
 #[derive(Clone, Debug)]
 pub struct GridSpec {
+    /// Vertices along x (columns), at least 2.
     pub cols: usize,
+    /// Vertices along the other side (rows), at least 2.
     pub rows: usize,
+    /// Width and height of the sheet (m).
     pub size: [f32; 2],
+    /// The plane the sheet lies in.
     pub orientation: GridOrientation,
     /// Centre of the sheet.
     pub center: Vec3,

@@ -8,10 +8,13 @@
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Slot {
+    /// The element's index.
     pub element: u32,
+    /// Which of the element's particles this one is.
     pub end: u32,
 }
 
+/// For each particle, the elements that touch it, in compressed rows.
 #[derive(Clone, Debug, Default)]
 pub struct Incidence {
     /// Slots of particle `i` are `slots[start[i]..start[i + 1]]`.

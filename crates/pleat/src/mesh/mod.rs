@@ -21,7 +21,9 @@ use glam::Vec3;
 /// A triangle mesh: positions and triangles with counter-clockwise winding.
 #[derive(Clone, Debug, Default)]
 pub struct Mesh {
+    /// Vertex positions (m).
     pub positions: Vec<Vec3>,
+    /// Triangles as vertex indices, counter-clockwise seen from the front.
     pub triangles: Vec<[u32; 3]>,
     /// For meshes built as a regular grid: vertices per row and per column,
     /// so that edges can be told apart as structural (stretch) or diagonal (shear).

@@ -19,13 +19,17 @@ pub struct Edge {
 /// triangle `(v[1], v[0], v[3])`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct TrianglePair {
+    /// The four vertices: the shared edge `v[0], v[1]`, then the wings `v[2]`
+    /// and `v[3]`.
     pub v: [u32; 4],
 }
 
 /// Edges, adjacent pairs and boundary of a mesh.
 #[derive(Clone, Debug, Default)]
 pub struct Topology {
+    /// The unique edges.
     pub edges: Vec<Edge>,
+    /// The pairs of adjacent triangles, one per interior manifold edge.
     pub pairs: Vec<TrianglePair>,
     /// Per vertex: lies on a boundary edge.
     pub boundary: Vec<bool>,

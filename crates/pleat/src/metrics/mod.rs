@@ -13,7 +13,9 @@ use crate::world::World;
 pub struct Metrics {
     /// Largest edge length over its rest length.
     pub max_stretch: f32,
+    /// Mean edge length over its rest length.
     pub mean_stretch: f32,
+    /// Whether some position, velocity or body state is NaN or infinite.
     pub nan: bool,
     /// NaN/inf or runaway energy now, or (through [`crate::Simulation::metrics`]) at any frame so far.
     pub unstable: bool,
@@ -21,10 +23,12 @@ pub struct Metrics {
     pub self_intersections: usize,
     /// Particles deeper than their thickness inside a collider.
     pub collider_penetrations: usize,
+    /// Kinetic energy of the particles (J).
     pub kinetic_energy: f32,
 }
 
 impl Metrics {
+    /// The figures of the state `particles` of `model` in `world`.
     pub fn measure(model: &Model, world: &World, particles: &Particles) -> Self {
         let nan = particles.has_non_finite() || !world.bodies_are_finite();
         let (max_stretch, mean_stretch) = stretch(model, particles);

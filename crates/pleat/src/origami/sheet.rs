@@ -103,9 +103,12 @@ pub struct Hinge {
 /// A flat triangulated sheet in the z = 0 plane, centred on the origin.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Sheet {
+    /// Vertex positions (m), with z = 0.
     pub positions: Vec<Vec3>,
     /// Counter-clockwise seen from +z.
     pub triangles: Vec<[u32; 3]>,
+    /// Every interior edge as a hinge: the pattern's creases and the facet
+    /// hinges.
     pub hinges: Vec<Hinge>,
 }
 

@@ -17,18 +17,25 @@ pub struct Scene {
     /// Name used in reports; defaults to the file name.
     #[serde(default)]
     pub name: String,
+    /// Frames to simulate; default 300.
     #[serde(default = "default_frames")]
     pub frames: u32,
     /// Frames per second of the output.
     #[serde(default = "default_fps")]
     pub fps: f32,
+    /// Gravitational acceleration (m/s^2); default `[0, -9.81, 0]`.
     #[serde(default = "default_gravity")]
     pub gravity: Vec3,
+    /// The solver and its settings (kind, substeps, iterations, damping,
+    /// self-collision); defaults apply when absent.
     #[serde(default)]
     pub solver: SolverSettings,
+    /// The cloths and sheets of paper, each with its mesh, material and pins.
     pub cloths: Vec<ClothSpec>,
+    /// The rigid obstacles; default none.
     #[serde(default)]
     pub colliders: Vec<ColliderSpec>,
+    /// Wind blowing on every cloth; absent for still air.
     #[serde(default)]
     pub wind: Option<Wind>,
     /// How pattern cloths fold; defaults apply when absent.
@@ -47,6 +54,7 @@ pub struct RenderSpec {
     /// Where the camera stands; absent frames the scene.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub camera: Option<CameraSpec>,
+    /// The directional light; absent uses the renderer's default.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub light: Option<LightSpec>,
     /// The cloth's texture: `"fabric"`, `"checker"`, `"plain"`, or a PNG
@@ -81,7 +89,9 @@ pub struct RenderSpec {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CameraSpec {
+    /// Where the camera stands (m).
     pub position: Vec3,
+    /// The point the camera looks at (m).
     pub target: Vec3,
     /// Vertical field of view in degrees.
     #[serde(default = "default_fov")]
@@ -129,6 +139,8 @@ impl Default for FoldSpec {
 }
 
 impl FoldSpec {
+    /// The fold ramp of the scene's paper: `progress` reached over
+    /// `frames_to_fold` frames.
     pub fn ramp(&self) -> FoldRamp {
         FoldRamp {
             progress: self.progress,
@@ -151,11 +163,17 @@ fn default_gravity() -> Vec3 {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ClothSpec {
+    /// Name used in reports and errors; defaults to `cloth<i>`, `i` its
+    /// index in `cloths`.
     #[serde(default)]
     pub name: String,
+    /// Where the mesh comes from: a grid, an OBJ file or a crease pattern.
     pub mesh: MeshSpec,
+    /// Density, compliances and thickness of the cloth; defaults apply when
+    /// absent.
     #[serde(default)]
     pub material: Material,
+    /// Groups of pinned vertices; default none.
     #[serde(default)]
     pub pins: Vec<PinSpec>,
     /// Long-range attachments from the pins (limits stretch far from them).
@@ -171,12 +189,16 @@ pub struct ClothSpec {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum MeshSpec {
+    /// A rectangular grid generated from its resolution and size.
     Grid(GridMeshSpec),
+    /// A triangle mesh read from an OBJ file.
     Obj(ObjMeshSpec),
     /// A crease pattern, folded as paper.
     Pattern(PatternMeshSpec),
 }
 
+/// A rectangular grid cloth (see [`crate::mesh::grid`]): row 0 is the top edge,
+/// column 0 the left one.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct GridMeshSpec {
@@ -185,10 +207,15 @@ pub struct GridMeshSpec {
     /// Metres.
     #[serde(default = "unit_size")]
     pub size: [f32; 2],
+    /// The plane the sheet lies in: `horizontal` (x-z, facing +y; the default)
+    /// or `vertical` (x-y, facing +z).
     #[serde(default)]
     pub orientation: GridOrientation,
+    /// Centre of the sheet (m); default the origin.
     #[serde(default)]
     pub center: Vec3,
+    /// Alternate the diagonal direction from quad to quad (a less biased mesh);
+    /// default true.
     #[serde(default = "yes")]
     pub alternate_diagonals: bool,
 }
@@ -200,13 +227,17 @@ fn yes() -> bool {
     true
 }
 
+/// A cloth mesh read from an OBJ file, each vertex placed at
+/// `position * scale + translate`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ObjMeshSpec {
     /// Relative to the scene file's folder.
     pub path: String,
+    /// Uniform scale of the file's positions; default 1.
     #[serde(default = "unit_scale")]
     pub scale: f32,
+    /// Offset added after scaling (m); default zero.
     #[serde(default)]
     pub translate: Vec3,
 }
@@ -233,8 +264,10 @@ pub struct PatternMeshSpec {
     /// pattern's own vertices.
     #[serde(default)]
     pub max_edge: Option<f32>,
+    /// Where the sheet's centre is placed (m); default the origin.
     #[serde(default)]
     pub center: Vec3,
+    /// Compliance of the creases and of the facet hinges; 1 each when absent.
     #[serde(default)]
     pub stiffness: PaperStiffness,
 }
@@ -243,34 +276,50 @@ pub struct PatternMeshSpec {
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PinSpec {
+    /// Grid corners to pin, e.g. `top_left` (grid meshes only).
     #[serde(default)]
     pub corners: Vec<Corner>,
+    /// Whole grid edges to pin, e.g. `left` (grid meshes only).
     #[serde(default)]
     pub edges: Vec<Side>,
+    /// Vertex indices to pin, for any mesh; each must exist.
     #[serde(default)]
     pub indices: Vec<u32>,
     /// 0 holds exactly; more lets the cloth pull away (m/N).
     #[serde(default)]
     pub compliance: f32,
+    /// Scripted motion of the pinned vertices (pivot default: the origin);
+    /// default at rest.
     #[serde(default)]
     pub motion: MotionSpec,
 }
 
+/// A corner of a grid cloth: row 0 is the top edge, column 0 the left one.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Corner {
+    /// Row 0, column 0.
     TopLeft,
+    /// Row 0, last column.
     TopRight,
+    /// Last row, column 0.
     BottomLeft,
+    /// Last row, last column.
     BottomRight,
 }
 
+/// An edge of a grid cloth: row 0 is the top edge, column 0 the left one.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Side {
+    /// Row 0: the highest edge of a vertical sheet, the farthest along -z of a
+    /// horizontal one.
     Top,
+    /// The last row.
     Bottom,
+    /// Column 0 (-x).
     Left,
+    /// The last column (+x).
     Right,
 }
 
@@ -278,6 +327,7 @@ pub enum Side {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct MotionSpec {
+    /// Constant velocity (m/s).
     pub linear_velocity: Vec3,
     /// Axis times rate (rad/s).
     pub angular_velocity: Vec3,
@@ -290,9 +340,14 @@ pub struct MotionSpec {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ColliderSpec {
+    /// The collider's shape, placed at time zero.
     pub shape: ShapeSpec,
+    /// Coulomb friction against the cloth, `{"static": .., "kinetic": ..}`;
+    /// default 0.4 and 0.3.
     #[serde(default)]
     pub friction: Friction,
+    /// Scripted motion of a static or kinematic collider (pivot default: the
+    /// shape's centre); default at rest, unused with `body`.
     #[serde(default)]
     pub motion: MotionSpec,
     /// Makes the collider a dynamic rigid body, moved by gravity, the cloth
@@ -306,8 +361,10 @@ pub struct ColliderSpec {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct BodySpec {
+    /// Density (kg/m^3) the mass and inertia follow from; default 1.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub density: Option<f32>,
+    /// Total mass (kg); when given, the mass and inertia are scaled to it.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub mass: Option<f32>,
     /// Initial velocity of the centre of mass (m/s).
@@ -316,30 +373,45 @@ pub struct BodySpec {
     pub angular_velocity: Vec3,
 }
 
+/// The shape of a collider, named by its key, e.g.
+/// `{"sphere": {"center": [0, 0.35, 0], "radius": 0.35}}`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum ShapeSpec {
     /// Solid below the plane through `point` facing `normal`.
     Plane {
+        /// A point on the plane (m); default the origin.
         #[serde(default)]
         point: Vec3,
+        /// The plane's outward normal (normalised when built); default +y.
         #[serde(default = "up")]
         normal: Vec3,
     },
+    /// A solid sphere.
     Sphere {
+        /// Centre (m).
         center: Vec3,
+        /// Radius (m).
         radius: f32,
     },
+    /// A solid box, turned about its centre.
     Box {
+        /// Centre (m).
         center: Vec3,
+        /// Half the box's size along its own axes (m).
         half_extents: Vec3,
         /// Euler angles X, Y, Z in degrees.
         #[serde(default)]
         rotation_degrees: Vec3,
     },
+    /// A solid capsule: the points within `radius` of the segment from `a` to
+    /// `b`.
     Capsule {
+        /// One end of the segment (m).
         a: Vec3,
+        /// The other end of the segment (m).
         b: Vec3,
+        /// Radius (m).
         radius: f32,
     },
     /// A triangle mesh from an OBJ file, queried through a BVH.
@@ -357,9 +429,12 @@ pub enum ShapeSpec {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MeshShapeSpec {
+    /// The OBJ file, relative to the scene file's folder.
     pub path: String,
+    /// Uniform scale of the file's positions; default 1.
     #[serde(default = "unit_scale")]
     pub scale: f32,
+    /// Offset added after scaling (m); default zero.
     #[serde(default)]
     pub translate: Vec3,
 }
@@ -369,11 +444,15 @@ pub struct MeshShapeSpec {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SdfShapeSpec {
+    /// The OBJ file, relative to the scene file's folder.
     pub path: String,
+    /// Uniform scale of the file's positions; default 1.
     #[serde(default = "unit_scale")]
     pub scale: f32,
+    /// Offset added after scaling (m); default zero.
     #[serde(default)]
     pub translate: Vec3,
+    /// Edge length of the distance field's grid cells (m).
     pub cell_size: f32,
 }
 
@@ -385,12 +464,16 @@ pub struct SdfShapeSpec {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TorusKnotSpec {
+    /// Centre of the knot (m).
     pub center: Vec3,
+    /// Radius of the torus the knot winds around (m).
     pub radius: f32,
     /// Radius of the tube; less than what makes it intersect itself.
     pub tube: f32,
+    /// Windings around the axis; default 2.
     #[serde(default = "two")]
     pub p: u32,
+    /// Windings around the torus's core; default 3.
     #[serde(default = "three")]
     pub q: u32,
     /// Rings of vertices along the knot.
@@ -402,11 +485,14 @@ pub struct TorusKnotSpec {
     /// Euler angles X, Y, Z in degrees.
     #[serde(default)]
     pub rotation_degrees: Vec3,
+    /// Bake the knot into a distance field with cells of this size (m); absent
+    /// queries the mesh through a BVH.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sdf_cell_size: Option<f32>,
 }
 
 impl TorusKnotSpec {
+    /// The generator of the knot's mesh.
     pub fn knot(&self) -> TorusKnot {
         TorusKnot {
             center: self.center,
@@ -426,16 +512,21 @@ impl TorusKnotSpec {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct IcosphereSpec {
+    /// Centre (m).
     pub center: Vec3,
+    /// Radius (m).
     pub radius: f32,
     /// Each splits every triangle in four: `20 * 4^subdivisions` triangles.
     #[serde(default = "icosphere_subdivisions")]
     pub subdivisions: u32,
+    /// Bake the sphere into a distance field with cells of this size (m);
+    /// absent queries the mesh through a BVH.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sdf_cell_size: Option<f32>,
 }
 
 impl IcosphereSpec {
+    /// The generator of the sphere's mesh.
     pub fn icosphere(&self) -> Icosphere {
         Icosphere {
             center: self.center,

@@ -26,6 +26,8 @@ use rayon::prelude::*;
 /// Smallest number of items a rayon task takes on.
 const MIN_TASK: usize = 1024;
 
+/// Jacobi PBD: every distance constraint projected against the same positions,
+/// corrections averaged per particle and relaxed.
 pub struct JacobiPbd {
     frame: PbdLoop,
     relaxation: f32,
@@ -70,6 +72,7 @@ impl JacobiConstraints {
 }
 
 impl JacobiPbd {
+    /// The solver for `model`, its constraints at the rest shape.
     pub fn new(model: &Model, settings: &SolverSettings) -> Self {
         let set = JacobiConstraints::new(model);
         JacobiPbd {

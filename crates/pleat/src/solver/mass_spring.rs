@@ -30,6 +30,7 @@ use rayon::prelude::*;
 /// Smallest number of items a rayon task takes on.
 const MIN_TASK: usize = 1024;
 
+/// The classic mass-spring cloth with Verlet integration.
 pub struct MassSpring {
     substeps: u32,
     /// Fraction of the velocity kept each step.
@@ -47,6 +48,7 @@ pub struct MassSpring {
 }
 
 impl MassSpring {
+    /// The solver for `model`, its springs at rest at the rest shape.
     pub fn new(model: &Model, settings: &SolverSettings) -> Self {
         let n = model.particle_count();
         let springs: Vec<Spring> = model

@@ -65,6 +65,8 @@ impl SolverKind {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SolverSettings {
+    /// Which solver advances the cloth: `xpbd` (the default), `mass_spring`,
+    /// `pbd_shape_matching` or `jacobi_pbd`.
     pub kind: SolverKind,
     /// Substeps per frame.
     pub substeps: u32,
@@ -99,9 +101,14 @@ impl Default for SolverSettings {
 /// Wall-clock time spent per stage of the step, summed over steps.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct StageTimes {
+    /// External forces: the wind.
     pub forces: Duration,
+    /// Prediction of positions, hard pins placed on their targets, and
+    /// velocities from positions.
     pub predict: Duration,
+    /// The solver's constraint (or spring) projections.
     pub constraints: Duration,
+    /// Collider contacts, rigid bodies included.
     pub collisions: Duration,
     /// Particle-collider contacts found, summed over substeps.
     pub contacts: u64,
@@ -133,6 +140,7 @@ pub fn substep_times(start: f32, frame_dt: f32, substeps: u32) -> impl Iterator<
 
 /// One algorithm that advances cloth in time.
 pub trait Solver: Send {
+    /// Which solver this is.
     fn kind(&self) -> SolverKind;
 
     /// Number of constraints (or springs) the solver projects per iteration.

@@ -55,10 +55,12 @@ impl<C> ColoredConstraints<C> {
         &self.lambda
     }
 
+    /// Number of constraints.
     pub fn len(&self) -> usize {
         self.items.len()
     }
 
+    /// Whether there are no constraints.
     pub fn is_empty(&self) -> bool {
         self.items.is_empty()
     }

@@ -51,10 +51,12 @@ pub fn attachments(model: &Model) -> (HardPins, Vec<Attachment>) {
 pub struct HardPins(Vec<Attachment>);
 
 impl HardPins {
+    /// Number of hard pins.
     pub fn len(&self) -> usize {
         self.0.len()
     }
 
+    /// Whether there are no hard pins.
     pub fn is_empty(&self) -> bool {
         self.0.is_empty()
     }
@@ -94,6 +96,7 @@ impl Prediction {
         (prediction, soft)
     }
 
+    /// Number of hard pins the prediction places.
     pub fn hard_pin_count(&self) -> usize {
         self.hard_pins.len()
     }
@@ -131,6 +134,7 @@ pub struct Contacts {
 }
 
 impl Contacts {
+    /// Contacts with the model's colliders, with each particle's thickness.
     pub fn new(model: &Model) -> Self {
         Contacts {
             thickness: model.thickness.clone(),
@@ -220,6 +224,7 @@ pub struct PbdLoop {
 }
 
 impl PbdLoop {
+    /// The loop for `model`: its prediction, soft pins and contacts.
     pub fn new(model: &Model, settings: &SolverSettings) -> Self {
         let n = model.particle_count();
         let (prediction, soft) = Prediction::new(model);

@@ -15,6 +15,8 @@ use crate::particles::Particles;
 use crate::world::World;
 use glam::Vec3;
 
+/// Position-based dynamics with shape matching of triangles and of adjacent
+/// pairs.
 pub struct PbdShapeMatching {
     frame: PbdLoop,
     triangles: ColoredConstraints<TriangleShape>,
@@ -22,6 +24,8 @@ pub struct PbdShapeMatching {
 }
 
 impl PbdShapeMatching {
+    /// The solver for `model`: a shape-matching group per triangle and per pair
+    /// of adjacent triangles.
     pub fn new(model: &Model, settings: &SolverSettings) -> Self {
         let n = model.particle_count();
         let inv_mass = inverse_masses(model);

@@ -10,8 +10,11 @@ use crate::model::ClothPart;
 /// What a pair of particles resists.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SpringKind {
+    /// Stretch: a mesh edge that is not a grid diagonal.
     Structural,
+    /// Shear: a quad diagonal of a grid mesh.
     Shear,
+    /// Bending: a skip-one pair.
     Bend,
 }
 
@@ -19,8 +22,11 @@ pub enum SpringKind {
 /// (the mean of its two vertices' weights).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpringPair {
+    /// The two particles (global indices).
     pub v: [u32; 2],
+    /// What the pair resists.
     pub kind: SpringKind,
+    /// Stiffness factor: the mean of the two vertices' weights.
     pub weight: f32,
 }
 

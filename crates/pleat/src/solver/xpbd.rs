@@ -74,6 +74,8 @@ pub const MOVING_FOLD_STRAIN_SCALE: f32 = 20.0;
 /// stop once no edge is beyond its limit; the crane, jammed, takes all.
 pub const FOLD_HOLD_SWEEPS: u32 = 500;
 
+/// The XPBD solver: substeps of coloured, compliant constraint projections,
+/// then self-contacts and collider contacts.
 pub struct Xpbd {
     settings: SolverSettings,
     /// The live compliance table, copied in at every step.
@@ -93,10 +95,13 @@ pub struct Xpbd {
 pub struct XpbdConstraints {
     /// Stretch, shear and skip-one bending edges.
     pub distance: ColoredConstraints<DistanceConstraint>,
+    /// Dihedral-angle bending of adjacent triangle pairs.
     pub bending: ColoredConstraints<DihedralBending>,
+    /// Isometric bending of adjacent triangle pairs that are flat at rest.
     pub isometric: ColoredConstraints<IsometricBending>,
     /// Origami hinges of paper parts.
     pub hinges: ColoredConstraints<OrigamiHinge>,
+    /// Long-range attachments from the pins.
     pub tethers: ColoredConstraints<Tether>,
     /// Attachments with compliance: solved with the other constraints.
     pub soft_attachments: ColoredConstraints<Attachment>,
@@ -317,6 +322,7 @@ impl XpbdConstraints {
 }
 
 impl Xpbd {
+    /// The solver for `model`, its constraints built at the rest shape.
     pub fn new(model: &Model, settings: &SolverSettings) -> Self {
         let (prediction, _) = Prediction::new(model);
         Xpbd {

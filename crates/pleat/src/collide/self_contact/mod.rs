@@ -46,6 +46,8 @@ const MIN_TASK: usize = 1024;
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SelfCollision {
+    /// Whether the cloths collide with themselves and each other; default
+    /// false.
     pub enabled: bool,
     /// Distance kept between two layers of cloth (m).
     pub thickness: f32,
@@ -96,6 +98,8 @@ pub struct SelfContacts {
 }
 
 impl SelfContacts {
+    /// Self-contact state for the particles of `model` under `settings`, with
+    /// the rest neighbourhood measured once.
     pub fn new(model: &Model, settings: SelfCollision) -> Self {
         let n = model.particle_count();
         let rest = RestNeighbourhood::new(model, settings.thickness);
