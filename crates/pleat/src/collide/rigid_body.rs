@@ -38,6 +38,7 @@ pub enum MassError {
 pub struct MassProperties {
     /// kg.
     pub mass: f32,
+    /// In the shape's time-zero coordinates (m).
     pub center_of_mass: Vec3,
     /// About the centre of mass, in the shape's axes (kg m^2).
     pub inertia: Mat3,
@@ -217,7 +218,9 @@ fn subexpressions(w0: f64, w1: f64, w2: f64) -> (f64, f64, f64, f64, f64, f64) {
 /// a mesh's vertices. In the shape's time-zero coordinates.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SamplePoint {
+    /// The point, in the shape's time-zero coordinates.
     pub local: Vec3,
+    /// Radius swept around the point (m): the sphere's or capsule's radius; 0 for a box corner or a mesh vertex.
     pub radius: f32,
 }
 
@@ -277,12 +280,15 @@ pub fn mesh_samples(mesh: &MeshCollider) -> Vec<SamplePoint> {
 /// A rigid body's mass properties and state.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RigidBody {
+    /// Mass (kg).
     pub mass: f32,
     /// Centre of mass in the shape's time-zero coordinates.
     pub center_of_mass: Vec3,
     /// Inertia about the centre of mass in the time-zero axes, and its inverse.
     pub inertia: Mat3,
+    /// Inverse of `inertia`.
     pub inv_inertia: Mat3,
+    /// Points of the surface tested against the static colliders.
     pub samples: Vec<SamplePoint>,
     /// Farthest a sample point reaches from the centre of mass (m).
     pub bound_radius: f32,
@@ -290,11 +296,13 @@ pub struct RigidBody {
     pub position: Vec3,
     /// Rotation from the time-zero placement.
     pub orientation: Quat,
+    /// Velocity of the centre of mass (m/s).
     pub linear_velocity: Vec3,
     /// rad/s, axis times rate.
     pub angular_velocity: Vec3,
     /// Pose at the start of the current substep.
     pub prev_position: Vec3,
+    /// Orientation at the start of the current substep.
     pub prev_orientation: Quat,
     /// Sum of the contacts' translations this substep.
     correction: Vec3,
@@ -325,6 +333,7 @@ impl RigidBody {
         }
     }
 
+    /// Inverse mass (1/kg).
     pub fn inv_mass(&self) -> f32 {
         1.0 / self.mass
     }
@@ -396,6 +405,7 @@ impl RigidBody {
         self.linear_velocity * self.mass
     }
 
+    /// Kinetic energy, translational plus rotational (J).
     pub fn kinetic_energy(&self) -> f32 {
         let r = Mat3::from_quat(self.orientation);
         let inertia = r * self.inertia * r.transpose();

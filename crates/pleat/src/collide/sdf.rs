@@ -122,6 +122,7 @@ impl SdfGrid {
         &self.surface
     }
 
+    /// Edge length of the grid's cells (m).
     pub fn cell_size(&self) -> f32 {
         self.cell_size
     }

@@ -9,7 +9,9 @@ use std::path::Path;
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 #[error("{file}: {reason}")]
 pub struct ObjError {
+    /// The file, as named by the caller.
     pub file: String,
+    /// What is wrong with it.
     pub reason: ObjReason,
 }
 

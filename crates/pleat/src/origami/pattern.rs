@@ -59,6 +59,7 @@ impl Assignment {
 pub struct PatternEdge {
     /// Indices into [`CreasePattern::vertices`].
     pub v: [usize; 2],
+    /// What the segment is: boundary, mountain, valley, flat, unassigned, cut or auxiliary.
     pub assignment: Assignment,
     /// Target fold angle in degrees, signed: valley positive, mountain
     /// negative. `None`: the full fold (180 degrees) for creases, none for
@@ -70,7 +71,9 @@ pub struct PatternEdge {
 /// segments between them.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct CreasePattern {
+    /// Points in the plane (arbitrary units).
     pub vertices: Vec<DVec2>,
+    /// The segments between the vertices.
     pub edges: Vec<PatternEdge>,
 }
 
@@ -134,9 +137,11 @@ impl PatternBuilder {
 /// (`line 3`, or a JSON path such as `edges_vertices[4][1]`) and the reason.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct PatternError {
+    /// The file the error is in, when known.
     pub file: Option<String>,
     /// Empty when the error concerns the whole file.
     pub location: String,
+    /// Why the import failed.
     pub reason: String,
 }
 

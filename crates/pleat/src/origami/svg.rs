@@ -35,7 +35,9 @@ pub const SVG_TOLERANCE: f64 = 1e-4;
 /// warnings (ignored stroke colours).
 #[derive(Clone, Debug, PartialEq)]
 pub struct SvgImport {
+    /// The crease pattern, already a clean planar graph.
     pub pattern: CreasePattern,
+    /// What the import ignored, such as unknown stroke colours, one message each.
     pub warnings: Vec<String>,
 }
 

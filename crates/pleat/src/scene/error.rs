@@ -5,9 +5,11 @@ use std::fmt;
 /// One thing wrong with a scene.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct SceneError {
+    /// The scene file, as named in messages.
     pub file: String,
     /// JSON path such as `cloths[0].material.density`; empty for the whole file.
     pub path: String,
+    /// What is wrong.
     pub reason: String,
 }
 
@@ -38,6 +40,7 @@ impl fmt::Display for SceneErrors {
 }
 
 impl SceneErrors {
+    /// A single error: `reason` at the JSON `path` of `file`.
     pub fn single(file: &str, path: &str, reason: &str) -> Self {
         SceneErrors(vec![SceneError {
             file: file.into(),
