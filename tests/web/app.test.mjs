@@ -3,7 +3,7 @@
 //
 //   node app.test.mjs DIST [SCREENSHOTS]
 //
-// DIST is the folder `cargo xtask web --release` wrote; SCREENSHOTS, when
+// DIST is the folder `cargo xtask web --no-serve` wrote; SCREENSHOTS, when
 // given, receives a PNG of each demo and a frame-rate table (fps.json).
 // The page says how it runs in `window.pleatState` (JSON text) and takes
 // parameters through `window.pleat.set(name, value)`.

@@ -1,10 +1,12 @@
 //! Project tasks that need more than cargo:
 //!
-//! - `cargo xtask web [--release] [--out DIR] [--port N]`: builds the app for
-//!   the browser (WebAssembly + WebGPU) with wasm-bindgen-cli pinned to the
-//!   wasm-bindgen crate's exact version (installed with `cargo install`, into
-//!   the target folder), writes a folder of static files, and serves it on
-//!   localhost (not with `--release`, which only writes the folder to deploy).
+//! - `cargo xtask web [--debug] [--no-serve] [--out DIR] [--port N]`: builds
+//!   the app for the browser (WebAssembly + WebGPU; the release build, the
+//!   one BENCHMARKS.md measures, unless `--debug`) with wasm-bindgen-cli
+//!   pinned to the wasm-bindgen crate's exact version (installed with `cargo
+//!   install`, into the target folder), writes a folder of static files, and
+//!   serves it on localhost (not with `--no-serve`, which only writes the
+//!   folder to deploy), saying each step as it starts.
 //! - `cargo xtask test`: the Rust tests (doctests included), the library's
 //!   example, then the web build and the browser test (tests/web, headless
 //!   Chromium with WebGPU through playwright-core).
@@ -30,25 +32,32 @@ fn main() -> ExitCode {
     }
 }
 
-const USAGE: &str = "usage: cargo xtask web [--release] [--out DIR] [--port N] | cargo xtask test";
+const USAGE: &str =
+    "usage: cargo xtask web [--debug] [--no-serve] [--out DIR] [--port N] | cargo xtask test";
 
 /// Options of `cargo xtask web`.
 struct WebOptions {
+    /// The optimised build (the default) or the debug one (`--debug`).
     release: bool,
+    /// Whether to serve the folder once it is written.
+    serve: bool,
     out: Option<PathBuf>,
     port: u16,
 }
 
 fn parse_web(args: &[String]) -> Result<WebOptions, String> {
     let mut options = WebOptions {
-        release: false,
+        release: true,
+        serve: true,
         out: None,
         port: 8080,
     };
     let mut args = args.iter();
     while let Some(arg) = args.next() {
         match arg.as_str() {
-            "--release" => options.release = true,
+            "--debug" => options.release = false,
+            // The folder to deploy: the release build, not served.
+            "--no-serve" | "--release" => options.serve = false,
             "--out" => options.out = Some(args.next().ok_or("--out needs a folder")?.into()),
             "--port" => {
                 let port = args.next().ok_or("--port needs a number")?;
@@ -65,14 +74,14 @@ fn parse_web(args: &[String]) -> Result<WebOptions, String> {
 fn web(args: &[String]) -> Result<(), String> {
     let options = parse_web(args)?;
     let dist = build_web(options.release, options.out)?;
-    if options.release {
+    if options.serve {
+        serve::serve(&dist, options.port)
+    } else {
         println!(
             "the app is in {}: serve that folder over http(s)",
             dist.display()
         );
         Ok(())
-    } else {
-        serve::serve(&dist, options.port)
     }
 }
 
@@ -81,8 +90,18 @@ fn web(args: &[String]) -> Result<(), String> {
 fn build_web(release: bool, out: Option<PathBuf>) -> Result<PathBuf, String> {
     let root = workspace_root()?;
     let target = target_dir(&root)?;
+    step(1, "adding the wasm32-unknown-unknown target (rustup)");
     run(Command::new("rustup").args(["target", "add", "wasm32-unknown-unknown"]))?;
+    step(2, "wasm-bindgen-cli at the wasm-bindgen crate's version");
     let bindgen = wasm_bindgen_cli(&root, &target)?;
+    let profile = if release { "release" } else { "debug" };
+    step(
+        3,
+        &format!(
+            "building the app for the browser ({profile}; a first build takes 15 minutes or \
+             more on two cores, later ones seconds)"
+        ),
+    );
     let mut build = cargo();
     build.args([
         "build",
@@ -97,12 +116,12 @@ fn build_web(release: bool, out: Option<PathBuf>) -> Result<PathBuf, String> {
         build.arg("--release");
     }
     run(build.current_dir(&root))?;
-    let profile = if release { "release" } else { "debug" };
     let wasm = target
         .join("wasm32-unknown-unknown")
         .join(profile)
         .join("pleat_app.wasm");
     let dist = out.unwrap_or_else(|| target.join("web"));
+    step(4, &format!("writing the page into {}", dist.display()));
     std::fs::create_dir_all(&dist).map_err(|e| format!("{}: {e}", dist.display()))?;
     run(Command::new(&bindgen)
         .args([
@@ -119,6 +138,11 @@ fn build_web(release: bool, out: Option<PathBuf>) -> Result<PathBuf, String> {
     std::fs::copy(&page, dist.join("index.html"))
         .map_err(|e| format!("{}: {e}", page.display()))?;
     Ok(dist)
+}
+
+/// Says which of the web build's four steps starts.
+fn step(n: u32, what: &str) {
+    eprintln!("[{n}/4] {what}");
 }
 
 /// wasm-bindgen-cli at the exact version of the wasm-bindgen crate in
