@@ -50,6 +50,27 @@ fn unknown_field() {
 }
 
 #[test]
+fn a_mesh_or_shape_of_the_wrong_kind_names_what_is_expected() {
+    assert_error(
+        r#"{"cloths": [{"mesh": 5}]}"#,
+        "cloths[0].mesh",
+        "expected an object with `grid`, `obj` or `pattern`, got the number 5 (line 1, column",
+    );
+    let json = GOOD.replace(
+        r#"{ "sphere": { "center": [0, 0, 0], "radius": 0.5 } }"#,
+        r#"[1, 2]"#,
+    );
+    assert_error(
+        &json,
+        "colliders[0].shape",
+        "expected an object with `plane`, `sphere`, `box`, `capsule`, `mesh`, `sdf`, \
+         `torus_knot` or `icosphere`, got a list",
+    );
+    // A syntax error keeps serde's own words.
+    assert_error(r#"{"cloths": [{"mesh": }]}"#, "", "expected value");
+}
+
+#[test]
 fn wrong_type() {
     let json = GOOD.replace("\"radius\": 0.5", "\"radius\": \"big\"");
     assert_error(

@@ -49,18 +49,69 @@ impl SceneErrors {
         }])
     }
 
-    /// From a serde error, keeping the JSON path and the line and column.
-    pub fn from_json(file: &str, e: serde_path_to_error::Error<serde_json::Error>) -> Self {
+    /// From a serde error on the scene `text`, keeping the JSON path and
+    /// the line and column. Where serde_json says only "expected value" of
+    /// a value that is there but of the wrong type (a number where a mesh
+    /// or a collider's shape is asked), the message names what is expected
+    /// and what was found.
+    pub fn from_json(
+        file: &str,
+        text: &str,
+        e: serde_path_to_error::Error<serde_json::Error>,
+    ) -> Self {
         let path = e.path().to_string();
         let inner = e.inner();
         let path = if path == "." { String::new() } else { path };
+        let message = strip_position(&inner.to_string()).to_string();
+        let message = wrong_kind(text, e.path())
+            .filter(|_| message == "expected value")
+            .unwrap_or(message);
         let reason = format!(
-            "{} (line {}, column {})",
-            strip_position(&inner.to_string()),
+            "{message} (line {}, column {})",
             inner.line(),
             inner.column()
         );
         SceneErrors::single(file, &path, &reason)
+    }
+}
+
+/// "expected ..., got ..." for the value at `path` of `text` where the
+/// field there holds one of several kinds of object named by their key.
+fn wrong_kind(text: &str, path: &serde_path_to_error::Path) -> Option<String> {
+    use serde_path_to_error::Segment;
+    let mut value = &serde_json::from_str::<serde_json::Value>(text).ok()?;
+    let mut field = None;
+    for segment in path.iter() {
+        value = match segment {
+            Segment::Seq { index } => value.get(*index)?,
+            Segment::Map { key } => {
+                field = Some(key.as_str());
+                value.get(key)?
+            }
+            Segment::Enum { .. } | Segment::Unknown => return None,
+        };
+    }
+    let expected = match field? {
+        "mesh" => "an object with `grid`, `obj` or `pattern`",
+        "shape" => {
+            "an object with `plane`, `sphere`, `box`, `capsule`, `mesh`, `sdf`, `torus_knot` \
+             or `icosphere`"
+        }
+        _ => return None,
+    };
+    Some(format!("expected {expected}, got {}", describe(value)))
+}
+
+/// A JSON value as a message names it: "the number 5", "a list".
+fn describe(value: &serde_json::Value) -> String {
+    use serde_json::Value;
+    match value {
+        Value::Null => "null".into(),
+        Value::Bool(b) => format!("`{b}`"),
+        Value::Number(n) => format!("the number {n}"),
+        Value::String(s) => format!("the string \"{s}\""),
+        Value::Array(_) => "a list".into(),
+        Value::Object(_) => "an object".into(),
     }
 }
 

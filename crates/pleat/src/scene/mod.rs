@@ -22,8 +22,8 @@ impl Scene {
     /// Parses and validates scene JSON; `file` names it in errors.
     pub fn parse(text: &str, file: &str) -> Result<Scene, SceneErrors> {
         let de = &mut serde_json::Deserializer::from_str(text);
-        let mut scene: Scene =
-            serde_path_to_error::deserialize(de).map_err(|e| SceneErrors::from_json(file, e))?;
+        let mut scene: Scene = serde_path_to_error::deserialize(de)
+            .map_err(|e| SceneErrors::from_json(file, text, e))?;
         let errors = validate::validate(&scene, file);
         if !errors.is_empty() {
             return Err(SceneErrors(errors));
