@@ -183,13 +183,13 @@ try {
     });
     const shown = await until(page, "the error", (s) => s.last_error !== null);
     assert.match(shown.last_error, /broken\.json/);
-    assert.match(shown.last_error, /cloths\[0\]\.mesh/);
+    assert.match(shown.last_error, /cloths\[0\]\.mesh: expected an object with `grid`, `obj` or `pattern`, got the number 3/);
     const going = await until(page, "frames after the error", (s) => s.frame >= shown.frame + 10);
     assert.equal(going.demo, "rigid", "the running scene was kept");
     assert.ok(going.frame > before.frame);
   });
 
-  await check("a dropped crease pattern folds", async () => {
+  await check("a dropped crease pattern folds, and clears the bad drop's error", async () => {
     await page.evaluate(() => {
       const data = new DataTransfer();
       const cp = "2 -1 -1 1 1\n3 -1 1 1 -1\n";
@@ -198,6 +198,7 @@ try {
     });
     const opened = await until(page, "the pattern", (s) => s.demo === "x.cp" && s.frame >= 10);
     assert.ok(opened.particles >= 5, JSON.stringify(opened));
+    assert.equal(opened.last_error, null, "the bad drop's error went with the good drop");
   });
   await check("without WebGPU the app runs on WebGL2 and the CPU, and says so", async () => {
     const webgl = await chromium.launch({

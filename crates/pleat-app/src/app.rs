@@ -120,6 +120,9 @@ impl PleatApp {
         let backend = self.demo.and_then(|d| d.backend).unwrap_or(self.backend);
         match Session::new(scene, file, self.files.clone(), backend, self.gpu.clone()) {
             Ok(session) => {
+                // An error belongs to the action that caused it: a scene
+                // that opens replaces what an earlier one left on screen.
+                self.probe.last_error = None;
                 self.session = Some(session);
                 self.opened += 1;
                 self.generation += 1;
