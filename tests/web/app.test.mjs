@@ -135,7 +135,18 @@ try {
       const t0 = Date.now();
       const timed = await until(page, "frames to time", (s) => s.frame >= later.frame + 10);
       const fps = (timed.frame - later.frame) / ((Date.now() - t0) / 1000);
-      rates[demo] = { fps: Number(fps.toFixed(2)), particles: timed.particles, backend: timed.backend, device: timed.device };
+      // fps: simulation frames the test counted per second; the page's own
+      // rates: frames drawn (drawn_fps) and steps simulated (steps_per_second).
+      rates[demo] = {
+        fps: Number(fps.toFixed(2)),
+        drawn_fps: Number(timed.fps.toFixed(2)),
+        steps_per_second: Number(timed.steps_per_second.toFixed(2)),
+        sim_speed: Number(timed.sim_speed.toFixed(3)),
+        particles: timed.particles,
+        backend: timed.backend,
+        device: timed.device,
+      };
+      assert.ok(Number.isFinite(timed.steps_per_second) && timed.steps_per_second > 0, JSON.stringify(timed));
       const png = await page.screenshot({ timeout: 120000 });
       if (shots) fs.writeFileSync(path.join(shots, `${demo}.png`), png);
       const blank = await notBlank(page, png);

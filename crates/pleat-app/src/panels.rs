@@ -194,9 +194,10 @@ fn format_value(v: f64) -> String {
 }
 
 fn statistics(ui: &mut egui::Ui, app: &mut PleatApp) {
+    let probe = &app.probe;
     ui.label(format!(
-        "{:.0} fps, frame {}",
-        app.probe.fps, app.probe.frame
+        "drawn {:.0} fps; simulated {:.1} steps/s ({:.2} x real time), frame {}",
+        probe.fps, probe.steps_per_second, probe.sim_speed, probe.frame
     ));
     let Some(session) = &app.session else { return };
     ui.label(format!(

@@ -1,13 +1,18 @@
-//! What the app tells tests about itself: frame count, frames per second,
-//! particle count, max stretch, energy, the cloth's centroid, whether the
+//! What the app tells tests about itself: frame count, the two rates (frames
+//! drawn per second, simulation steps per second and simulated seconds per
+//! wall second), particle count, max stretch, energy, the cloth's centroid, whether the
 //! mouse holds the cloth, and the last error. The page publishes it as
 //! `window.pleatState` (JSON text); the native app prints it on exit.
 
 use crate::session::Session;
 use serde::Serialize;
+use std::collections::VecDeque;
 
 /// Weight of the newest frame in the frame-rate average.
 const FPS_SMOOTHING: f32 = 0.05;
+
+/// Wall time (s) over which the simulation's rate is measured.
+const RATE_WINDOW: f64 = 4.0;
 
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct Probe {
@@ -15,8 +20,13 @@ pub struct Probe {
     pub demo: String,
     /// Simulation frames stepped since the scene opened.
     pub frame: u64,
-    /// App frames per second (smoothed).
+    /// Frames drawn per second (smoothed).
     pub fps: f32,
+    /// Simulation steps per wall second over the last few seconds: the
+    /// frames the simulation advanced, however fast the app draws.
+    pub steps_per_second: f32,
+    /// Simulated seconds per wall second (1: real time).
+    pub sim_speed: f32,
     pub particles: usize,
     /// Largest edge length over its rest length.
     pub max_stretch: f32,
@@ -35,6 +45,16 @@ pub struct Probe {
     /// Where (CSS pixels, window points natively) a point of the cloth is drawn.
     pub cloth_point: Option<[f32; 2]>,
     pub last_error: Option<String>,
+    /// Wall time since the app started (s), summed from the frames drawn.
+    #[serde(skip)]
+    clock: f64,
+    /// (wall time, simulation frame) at each frame drawn over the last
+    /// [`RATE_WINDOW`] seconds.
+    #[serde(skip)]
+    window: VecDeque<(f64, u64)>,
+    /// Length of a simulation step (s).
+    #[serde(skip)]
+    step_dt: f32,
 }
 
 impl Probe {
@@ -47,6 +67,34 @@ impl Probe {
             } else {
                 self.fps + (fps - self.fps) * FPS_SMOOTHING
             };
+        }
+        self.clock += f64::from(dt.max(0.0));
+        self.measure_steps();
+    }
+
+    /// The simulation's rate over the window: frames advanced over the wall
+    /// time they took.
+    fn measure_steps(&mut self) {
+        self.window.push_back((self.clock, self.frame));
+        while self
+            .window
+            .front()
+            .is_some_and(|&(t, _)| self.clock - t > RATE_WINDOW)
+        {
+            self.window.pop_front();
+        }
+        let Some(&(t0, f0)) = self.window.front() else {
+            return;
+        };
+        let elapsed = self.clock - t0;
+        // A new scene starts its count again: measure from there.
+        if self.frame < f0 {
+            self.window.clear();
+            return;
+        }
+        if elapsed > 0.0 {
+            self.steps_per_second = ((self.frame - f0) as f64 / elapsed) as f32;
+            self.sim_speed = self.steps_per_second * self.step_dt;
         }
     }
 
@@ -62,6 +110,7 @@ impl Probe {
         self.backend = sim.backend_name().to_string();
         self.device = sim.device();
         self.unstable = sim.stability.is_unstable();
+        self.step_dt = 1.0 / session.scene.fps;
         self.notice.clone_from(&session.notice);
     }
 
