@@ -200,6 +200,31 @@ try {
     assert.ok(going.frame > before.frame);
   });
 
+  await check("a run driven unstable shows the banner and pauses", async () => {
+    // Stiff springs with one explicit step a frame: the classic explosion.
+    const stiff = JSON.stringify({
+      name: "stiff_springs",
+      solver: { kind: "mass_spring", substeps: 1 },
+      cloths: [{
+        mesh: { grid: { resolution: [32, 32], orientation: "vertical", center: [0, 1.5, 0] } },
+        material: { spring_stiffness: { structural: 50000, shear: 50000, bend: 100 } },
+        pins: [{ corners: ["top_left", "top_right"] }],
+      }],
+    });
+    await page.evaluate((text) => {
+      const data = new DataTransfer();
+      data.items.add(new File([text], "stiff_springs.json", { type: "application/json" }));
+      document.getElementById("pleat").dispatchEvent(new DragEvent("drop", { dataTransfer: data, bubbles: true, cancelable: true }));
+    }, stiff);
+    const halted = await until(page, "the instability", (s) => s.demo === "stiff_springs.json" && s.paused);
+    assert.equal(halted.unstable, true);
+    assert.match(halted.instability, /the simulation went unstable \((non_finite|runaway)\) at \d+\.\d+ s/);
+    await page.waitForTimeout(2000);
+    const still = await state(page);
+    assert.equal(still.frame, halted.frame, "paused: no frame stepped over the unstable state");
+    if (shots) fs.writeFileSync(path.join(shots, "unstable.png"), await page.screenshot({ timeout: 120000 }));
+  });
+
   await check("a dropped crease pattern folds, and clears the bad drop's error", async () => {
     await page.evaluate(() => {
       const data = new DataTransfer();

@@ -74,6 +74,9 @@ pub struct PleatApp {
     inbox: Inbox,
     last_frame: Option<Instant>,
     step_once: bool,
+    /// The scene (its `opened` count) whose instability paused the run:
+    /// it pauses once, and the person may play on.
+    halted: Option<u64>,
 }
 
 impl PleatApp {
@@ -100,6 +103,7 @@ impl PleatApp {
             inbox: Inbox::default(),
             last_frame: None,
             step_once: false,
+            halted: None,
         };
         if options.files.is_empty() {
             app.commands.push(Command::Demo(options.demo));
@@ -123,6 +127,10 @@ impl PleatApp {
                 // An error belongs to the action that caused it: a scene
                 // that opens replaces what an earlier one left on screen.
                 self.probe.last_error = None;
+                // A run an instability paused plays again from the new start.
+                if self.halted.take().is_some() {
+                    self.playing = true;
+                }
                 self.session = Some(session);
                 self.opened += 1;
                 self.generation += 1;
@@ -262,6 +270,18 @@ impl PleatApp {
         }
         self.probe.observe(session);
         self.history.push(self.probe.max_stretch, self.probe.energy);
+        self.halt_if_unstable();
+    }
+
+    /// Pauses the run the first time its scene goes unstable (NaN,
+    /// runaway energy, torn paper), instead of stepping on over NaN; the
+    /// banner says when and where.
+    fn halt_if_unstable(&mut self) {
+        if self.probe.instability.is_some() && self.halted != Some(self.opened) {
+            self.halted = Some(self.opened);
+            self.playing = false;
+        }
+        self.probe.paused = !self.playing;
     }
 }
 
@@ -305,6 +325,7 @@ impl eframe::App for PleatApp {
             .show(ui, |ui| self.side_panel(ui));
         egui::CentralPanel::default().show(ui, |ui| {
             self.error_bar(ui);
+            self.instability_banner(ui);
             let (Some(state), Some(session)) = (frame.wgpu_render_state(), &mut self.session)
             else {
                 ui.label("no scene is open");
@@ -327,6 +348,28 @@ impl eframe::App for PleatApp {
 }
 
 impl PleatApp {
+    /// The banner of an unstable run: what happened, when and where, with
+    /// reset at hand.
+    fn instability_banner(&mut self, ui: &mut egui::Ui) {
+        let Some(what) = self.probe.instability.clone() else {
+            return;
+        };
+        let paused = if self.playing { "" } else { "; paused" };
+        let mut reset = false;
+        egui::Frame::new()
+            .fill(egui::Color32::from_rgb(140, 90, 10))
+            .inner_margin(6.0)
+            .show(ui, |ui| {
+                ui.horizontal(|ui| {
+                    ui.colored_label(egui::Color32::WHITE, format!("{what}{paused}"));
+                    reset = ui.button("reset").clicked();
+                });
+            });
+        if reset {
+            self.commands.push(Command::Reset);
+        }
+    }
+
     fn error_bar(&mut self, ui: &mut egui::Ui) {
         let Some(error) = self.probe.last_error.clone() else {
             return;

@@ -38,6 +38,11 @@ pub struct Probe {
     pub backend: String,
     pub device: String,
     pub unstable: bool,
+    /// What went unstable, when and where (as report.json says it), once
+    /// the run has; the app then pauses.
+    pub instability: Option<String>,
+    /// Whether the run is paused.
+    pub paused: bool,
     /// Why the backend asked for is not in use, or notes on it.
     pub notice: Option<String>,
     /// Whether the mouse holds a particle.
@@ -110,6 +115,13 @@ impl Probe {
         self.backend = sim.backend_name().to_string();
         self.device = sim.device();
         self.unstable = sim.stability.is_unstable();
+        self.instability = sim.stability.verdict().map(|(time, kind, particle)| {
+            let at = particle.map_or(String::new(), |p| format!(", particle {p}"));
+            format!(
+                "the simulation went unstable ({}) at {time:.2} s{at}",
+                kind.name()
+            )
+        });
         self.step_dt = 1.0 / session.scene.fps;
         self.notice.clone_from(&session.notice);
     }
