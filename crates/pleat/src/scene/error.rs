@@ -91,15 +91,49 @@ fn wrong_kind(text: &str, path: &serde_path_to_error::Path) -> Option<String> {
             Segment::Enum { .. } | Segment::Unknown => return None,
         };
     }
-    let expected = match field? {
-        "mesh" => "an object with `grid`, `obj` or `pattern`",
-        "shape" => {
-            "an object with `plane`, `sphere`, `box`, `capsule`, `mesh`, `sdf`, `torus_knot` \
-             or `icosphere`"
-        }
+    let keys = match field? {
+        "mesh" => super::spec::MESH_KEYS,
+        "shape" => super::spec::SHAPE_KEYS,
         _ => return None,
     };
-    Some(format!("expected {expected}, got {}", describe(value)))
+    Some(format!(
+        "expected an object with {}, got {}",
+        one_of(keys),
+        describe(value)
+    ))
+}
+
+/// "`a`, `b` or `c`".
+fn one_of(keys: &[&str]) -> String {
+    let quoted: Vec<String> = keys.iter().map(|k| format!("`{k}`")).collect();
+    match quoted.split_last() {
+        Some((last, [])) => last.clone(),
+        Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
+        None => String::new(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::spec::{MeshSpec, ShapeSpec, MESH_KEYS, SHAPE_KEYS};
+
+    /// serde's own list of an enum's keys, from its error for an unknown one.
+    fn serde_keys<T: serde::de::DeserializeOwned + std::fmt::Debug>() -> String {
+        let e = serde_json::from_str::<T>(r#""no_such_key""#).unwrap_err();
+        let text = e.to_string();
+        let list = text.split("expected one of ").nth(1).unwrap();
+        list.split(" at line").next().unwrap().to_string()
+    }
+
+    #[test]
+    fn the_keys_in_messages_are_those_serde_reads() {
+        let listed = |keys: &[&str]| {
+            let quoted: Vec<String> = keys.iter().map(|k| format!("`{k}`")).collect();
+            quoted.join(", ")
+        };
+        assert_eq!(serde_keys::<MeshSpec>(), listed(MESH_KEYS));
+        assert_eq!(serde_keys::<ShapeSpec>(), listed(SHAPE_KEYS));
+    }
 }
 
 /// A JSON value as a message names it: "the number 5", "a list".

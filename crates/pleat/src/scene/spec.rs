@@ -185,6 +185,21 @@ pub struct ClothSpec {
     pub stiffness_weights: Vec<f32>,
 }
 
+/// The keys that name a [`MeshSpec`] in a scene file.
+pub const MESH_KEYS: &[&str] = &["grid", "obj", "pattern"];
+
+/// The keys that name a [`ShapeSpec`] in a scene file.
+pub const SHAPE_KEYS: &[&str] = &[
+    "plane",
+    "sphere",
+    "box",
+    "capsule",
+    "mesh",
+    "sdf",
+    "torus_knot",
+    "icosphere",
+];
+
 /// Where a cloth's mesh comes from.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]

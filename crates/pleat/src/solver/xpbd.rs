@@ -546,16 +546,7 @@ mod tests {
             crate::paper::paper_material(),
             crate::paper::PaperStiffness::default(),
         );
-        let mut solver = Xpbd::new(
-            &model,
-            &SolverSettings {
-                // Paper's (crate::folding::paper_solver_settings).
-                substeps: 160,
-                iterations: 1,
-                damping: 10.0,
-                ..SolverSettings::default()
-            },
-        );
+        let mut solver = Xpbd::new(&model, &crate::folding::paper_solver_settings());
         let mut p = Particles::new(model.rest.clone(), &model.mass);
         for x in &mut p.x {
             *x *= 1.1;
