@@ -113,6 +113,26 @@ fn one_of(keys: &[&str]) -> String {
     }
 }
 
+/// A JSON value as a message names it: "the number 5", "a list".
+fn describe(value: &serde_json::Value) -> String {
+    use serde_json::Value;
+    match value {
+        Value::Null => "null".into(),
+        Value::Bool(b) => format!("`{b}`"),
+        Value::Number(n) => format!("the number {n}"),
+        Value::String(s) => format!("the string \"{s}\""),
+        Value::Array(_) => "a list".into(),
+        Value::Object(_) => "an object".into(),
+    }
+}
+
+/// serde_json appends " at line L column C"; we report the position ourselves.
+fn strip_position(message: &str) -> &str {
+    message
+        .rfind(" at line ")
+        .map_or(message, |i| &message[..i])
+}
+
 #[cfg(test)]
 mod tests {
     use super::super::spec::{MeshSpec, ShapeSpec, MESH_KEYS, SHAPE_KEYS};
@@ -134,24 +154,4 @@ mod tests {
         assert_eq!(serde_keys::<MeshSpec>(), listed(MESH_KEYS));
         assert_eq!(serde_keys::<ShapeSpec>(), listed(SHAPE_KEYS));
     }
-}
-
-/// A JSON value as a message names it: "the number 5", "a list".
-fn describe(value: &serde_json::Value) -> String {
-    use serde_json::Value;
-    match value {
-        Value::Null => "null".into(),
-        Value::Bool(b) => format!("`{b}`"),
-        Value::Number(n) => format!("the number {n}"),
-        Value::String(s) => format!("the string \"{s}\""),
-        Value::Array(_) => "a list".into(),
-        Value::Object(_) => "an object".into(),
-    }
-}
-
-/// serde_json appends " at line L column C"; we report the position ourselves.
-fn strip_position(message: &str) -> &str {
-    message
-        .rfind(" at line ")
-        .map_or(message, |i| &message[..i])
 }
