@@ -156,3 +156,23 @@ struct PaperEdge {
     rest_length: f32,
     pad: u32,
 }
+
+// A coarse edge of the hierarchy (pleat::constraint::LongRangeLimit).
+struct LongRangeLimit {
+    a: u32,
+    b: u32,
+    max_length: f32,
+    wa: f32,
+    wb: f32,
+    // The live stretch compliance that must be zero for the limit to hold;
+    // NONE: always held (a strain limit).
+    slot: u32,
+}
+
+// How a particle follows the level above it
+// (pleat::solver::hierarchy::Prolongation); unused parents weigh 0.
+struct Prolongation {
+    particle: u32,
+    parents: array<u32, 4>,
+    weights: array<f32, 4>,
+}

@@ -47,6 +47,12 @@ pub struct Kernels {
     pub hinge: wgpu::ComputePipeline,
     pub track: wgpu::ComputePipeline,
     pub tether: wgpu::ComputePipeline,
+    /// The hierarchy: the positions noted, a level's coarse edges, its prolongation.
+    pub snapshot: wgpu::ComputePipeline,
+    pub long_range: wgpu::ComputePipeline,
+    pub prolongate: wgpu::ComputePipeline,
+    /// The grabbed particle's reach over its cloth (XPBD).
+    pub grab_reach: wgpu::ComputePipeline,
     pub attachment: wgpu::ComputePipeline,
     pub jacobi_correct: wgpu::ComputePipeline,
     pub jacobi_gather: wgpu::ComputePipeline,
@@ -165,6 +171,10 @@ impl Kernels {
             hinge: pipeline(shaders::HINGE, "solve", &with_kernel),
             track: pipeline(shaders::HINGE, "track", &with_kernel),
             tether: pipeline(shaders::TETHER, "solve", &with_kernel),
+            snapshot: pipeline(shaders::PROLONGATION, "snapshot", &with_kernel),
+            long_range: pipeline(shaders::LONG_RANGE, "solve", &with_kernel),
+            prolongate: pipeline(shaders::PROLONGATION, "prolongate", &with_kernel),
+            grab_reach: pipeline(shaders::GRAB_REACH, "reach", &with_kernel),
             attachment: pipeline(shaders::ATTACHMENT, "solve", &with_kernel),
             jacobi_correct: pipeline(shaders::JACOBI, "correct", &with_kernel),
             jacobi_gather: pipeline(shaders::JACOBI, "gather", &with_kernel),

@@ -6,8 +6,9 @@ use crate::data::{Attachment, GpuCollider, GpuPose, Params, Range};
 use crate::health::{PaperEdge, Summary};
 use crate::shaders::STRUCTS;
 use pleat::constraint::{
-    DihedralBending, DistanceConstraint, IsometricBending, OrigamiHinge, Tether,
+    DihedralBending, DistanceConstraint, IsometricBending, LongRangeLimit, OrigamiHinge, Tether,
 };
+use pleat::solver::hierarchy::Prolongation;
 use std::mem::{offset_of, size_of, size_of_val};
 
 /// `structs.wgsl` as naga parses it, and the layout naga computes for its types.
@@ -134,4 +135,8 @@ fn core_constraints_match_wgsl() {
         v, full_angle, compliance, angle, slot,
     });
     assert_mirrors!(Tether as "Tether" { particle => ["particle"], pin, max_length });
+    assert_mirrors!(LongRangeLimit as "LongRangeLimit" {
+        v => ["a", "b"], max_length, inv_mass => ["wa", "wb"], slot,
+    });
+    assert_mirrors!(Prolongation as "Prolongation" { particle, parents, weights });
 }

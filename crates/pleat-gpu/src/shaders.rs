@@ -62,6 +62,12 @@ pub const ISOMETRIC: Module = module!("isometric", ["solve"]);
 pub const HINGE: Module = module!("hinge", ["solve", "track"]);
 /// Long-range attachments.
 pub const TETHER: Module = module!("tether", ["solve"]);
+/// The hierarchy's coarse edges.
+pub const LONG_RANGE: Module = module!("long_range", ["solve"]);
+/// The hierarchy's prolongation.
+pub const PROLONGATION: Module = module!("prolongation", ["snapshot", "prolongate"]);
+/// Long-range attachments to the grabbed particle.
+pub const GRAB_REACH: Module = module!("grab_reach", ["reach"]);
 /// Soft attachments.
 pub const ATTACHMENT: Module = module!("attachment", ["solve"]);
 
@@ -90,7 +96,7 @@ pub const HEALTH: Module = module!("health", ["reduce_blocks", "reduce_sums"]);
 pub const MOMENTUM: Module = module!("momentum", ["sum_blocks", "solve", "apply"]);
 
 /// Every module of the backend.
-pub const ALL: [Module; 14] = [
+pub const ALL: [Module; 17] = [
     PREDICT,
     PINS,
     WIND,
@@ -100,6 +106,9 @@ pub const ALL: [Module; 14] = [
     ISOMETRIC,
     HINGE,
     TETHER,
+    LONG_RANGE,
+    PROLONGATION,
+    GRAB_REACH,
     ATTACHMENT,
     JACOBI,
     SELF_CONTACT,

@@ -173,6 +173,66 @@ fn the_strain_limit_converges_on_a_long_heavy_strip_on_both_backends() {
 }
 
 #[test]
+fn hierarchy_kernels() {
+    // Pinned at two corners, the 8 x 8 cloth gets coarse levels; a drop
+    // far beyond their limits makes every level's edges and
+    // prolongation move it.
+    let text = cloth(
+        "",
+        r#", "pins": [ { "corners": ["top_left", "top_right"] } ]"#,
+    ) + "}";
+    one_frame_matches(&text, "hierarchy");
+}
+
+#[test]
+fn fine_hanging_cloth_holds_its_length_on_both_backends() {
+    // Without the hierarchy: 3.2 times an edge's length at the pins.
+    let scene = pleat::scene::presets::hanging_cloth(128, 10, false);
+    let (mut c, mut g) = (cpu(&scene), gpu(&scene));
+    run(&mut c, &scene, 90);
+    run(&mut g, &scene, 90);
+    for (backend, sim) in [("cpu", &c), ("gpu", &g)] {
+        let m = sim.metrics();
+        assert!(!m.unstable, "{backend}");
+        assert!(
+            m.max_stretch <= 1.05,
+            "{backend}: max stretch {}",
+            m.max_stretch
+        );
+    }
+}
+
+#[test]
+fn grab_reach_kernel() {
+    // A corner of a falling cloth dragged 1 m up over 10 frames: the rest
+    // of the cloth comes along, on both backends alike.
+    let text = cloth("", "") + "}";
+    let scene = scene(&text);
+    let (mut c, mut g) = (cpu(&scene), gpu(&scene));
+    for frame in 1..=10 {
+        let grab = pleat::constraint::Grab {
+            particle: 0,
+            target: pleat::glam::Vec3::new(-0.5, 1.0 + 0.1 * frame as f32, -0.5),
+            compliance: 1e-5,
+        };
+        for sim in [&mut c, &mut g] {
+            sim.grab(Some(grab));
+            sim.step(scene.frame_dt());
+            sim.sync();
+        }
+    }
+    let err = max_distance(&c, &g);
+    assert!(err <= 1e-4, "GPU differs from CPU by {err}");
+    for (backend, sim) in [("cpu", &c), ("gpu", &g)] {
+        let stretch = sim.metrics().max_stretch;
+        assert!(
+            stretch <= 1.1,
+            "{backend}: max stretch while dragged {stretch}"
+        );
+    }
+}
+
+#[test]
 fn isometric_bending_tether_and_soft_pin_kernels() {
     let text = cloth(
         r#""bending": "isometric""#,

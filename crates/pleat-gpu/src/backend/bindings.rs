@@ -31,12 +31,15 @@ pub(super) struct Stages {
     /// Kernels of the state alone (group 0).
     pub(super) predict: wgpu::ComputePipeline,
     pub(super) pins: Option<Stage>,
-    /// In projection order: hinges, distances, bending, isometric, soft attachments, tethers.
+    /// In projection order: the hierarchy, hinges, distances, bending,
+    /// isometric, soft attachments, tethers.
     pub(super) constraints: Vec<Stage>,
     /// The distances' strain limits alone.
     pub(super) strain_limit: Option<StrainLimitStages>,
     pub(super) track: Option<Stage>,
     pub(super) grab: wgpu::ComputePipeline,
+    /// The grabbed particle's reach over its cloth, after the grab (XPBD).
+    pub(super) grab_reach: Option<Stage>,
     pub(super) self_contact: Option<SelfContactStage>,
     pub(super) collide: Option<Stage>,
     pub(super) update_velocities: wgpu::ComputePipeline,
@@ -113,6 +116,9 @@ impl Stages {
                     ConstraintKind::Isometric => &kernels.isometric,
                     ConstraintKind::Attachment => &kernels.attachment,
                     ConstraintKind::Tether => &kernels.tether,
+                    ConstraintKind::Snapshot => &kernels.snapshot,
+                    ConstraintKind::LongRange => &kernels.long_range,
+                    ConstraintKind::Prolongate => &kernels.prolongate,
                     ConstraintKind::JacobiCorrect => &kernels.jacobi_correct,
                     ConstraintKind::JacobiGather => &kernels.jacobi_gather,
                 };
@@ -174,6 +180,13 @@ impl Stages {
                 )
             }),
             grab: kernels.grab.clone(),
+            grab_reach: b.grab_reach.as_ref().map(|([rest, cloth], dispatch)| {
+                stage(
+                    &kernels.grab_reach,
+                    [rest, cloth, &spare[0], &spare[1]],
+                    vec![*dispatch],
+                )
+            }),
             self_contact: b.self_contact.as_ref().map(|c| SelfContactStage {
                 bind_group: group([&c.grid, &c.topology, &c.rest, &c.accum]),
                 pipelines: kernels.self_contact.clone(),

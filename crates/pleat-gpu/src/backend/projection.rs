@@ -1,5 +1,6 @@
-//! The constraint kinds' buffers, by solver: XPBD's coloured kinds (hinges,
-//! distances, bending, isometric bending, soft attachments, tethers) or
+//! The constraint kinds' buffers, by solver: XPBD's coloured kinds (the
+//! hierarchy's levels, hinges, distances, bending, isometric bending, soft
+//! attachments, tethers) or
 //! Jacobi PBD's corrections and gather, each with the dispatches of its
 //! colours in the range table.
 
@@ -10,6 +11,7 @@ use crate::data::{Attachment, Range};
 use bytemuck::Pod;
 use pleat::constraint::DistanceConstraint;
 use pleat::model::Model;
+use pleat::solver::hierarchy::Hierarchy;
 use pleat::solver::jacobi::JacobiConstraints;
 use pleat::solver::parallel::ColoredConstraints;
 use pleat::solver::xpbd::{FoldLimits, XpbdConstraints};
@@ -35,6 +37,22 @@ pub(super) enum ConstraintKind {
     Tether,
     JacobiCorrect,
     JacobiGather,
+    /// The hierarchy: the positions noted, a level's coarse edges, its
+    /// prolongation (their "lambda" buffer: the noted positions, or unused).
+    Snapshot,
+    LongRange,
+    Prolongate,
+}
+
+impl ConstraintKind {
+    /// Whether the kind's second buffer holds per-substep multipliers (or
+    /// Jacobi's corrections), cleared at the start of every substep.
+    pub(super) fn has_multipliers(self) -> bool {
+        !matches!(
+            self,
+            ConstraintKind::Snapshot | ConstraintKind::LongRange | ConstraintKind::Prolongate
+        )
+    }
 }
 
 /// How a backend projects the cloth's constraints: the kinds it
@@ -59,8 +77,8 @@ pub(super) struct Projection {
     pub(super) fold_limits: Option<(FoldLimits, Vec<DistanceConstraint>)>,
 }
 
-/// XPBD: hinges, distances, bending, isometric bending, soft attachments
-/// and tethers, each coloured.
+/// XPBD: the hierarchy's levels, then hinges, distances, bending,
+/// isometric bending, soft attachments and tethers, each coloured.
 pub(super) fn xpbd_projection(
     context: &GpuContext,
     model: &Model,
@@ -69,7 +87,8 @@ pub(super) fn xpbd_projection(
 ) -> Result<Projection, GpuError> {
     let c = XpbdConstraints::new(model);
     let (soft_kind, soft_pins) = soft_attachments(context, table, &c.soft_attachments, hard_pins)?;
-    let kinds = vec![
+    let mut kinds = hierarchy(context, table, &c.hierarchy, model.particle_count())?;
+    kinds.extend([
         as_is(context, table, (ConstraintKind::Hinge, "hinges"), &c.hinges)?,
         as_is(
             context,
@@ -96,7 +115,7 @@ pub(super) fn xpbd_projection(
             (ConstraintKind::Tether, "tethers"),
             &c.tethers,
         )?,
-    ];
+    ]);
     Ok(Projection {
         kinds,
         soft_pins,
@@ -118,6 +137,55 @@ pub(super) fn xpbd_projection(
             .differ()
             .then(|| (c.fold_limits.clone(), c.distance.items().to_vec())),
     })
+}
+
+/// The hierarchy as the CPU solves it ([`Hierarchy::solve`]): the
+/// positions noted, then each level, coarsest first, its coarse edges by
+/// colour and its prolongation in one dispatch. None without levels.
+fn hierarchy(
+    context: &GpuContext,
+    table: &mut RangeTable,
+    hierarchy: &Hierarchy,
+    particles: usize,
+) -> Result<Vec<ConstraintBuffers>, GpuError> {
+    if hierarchy.is_empty() {
+        return Ok(Vec::new());
+    }
+    let device = &context.device;
+    check_size(context, particles as u64 * 16, "hierarchy")?;
+    let start = zeroed(device, "hierarchy start", particles as u64 * 16);
+    let unused = || zeroed(device, "unused", 16);
+    let mut kinds = vec![ConstraintBuffers {
+        items: unused(),
+        lambda: start.clone(),
+        extra: None,
+        dispatches: vec![table.push(0, particles as u32)],
+        kind: ConstraintKind::Snapshot,
+    }];
+    for level in hierarchy.levels().iter().rev() {
+        let limits = level.limits.items();
+        check_size(context, size_of_val(limits) as u64, "hierarchy levels")?;
+        check_size(
+            context,
+            size_of_val(&level.prolongation[..]) as u64,
+            "hierarchy levels",
+        )?;
+        kinds.push(ConstraintBuffers {
+            items: storage(device, "coarse edges", limits),
+            lambda: unused(),
+            extra: None,
+            dispatches: table.colours(&level.limits),
+            kind: ConstraintKind::LongRange,
+        });
+        kinds.push(ConstraintBuffers {
+            items: storage(device, "prolongation", &level.prolongation),
+            lambda: start.clone(),
+            extra: None,
+            dispatches: vec![table.push(0, level.prolongation.len() as u32)],
+            kind: ConstraintKind::Prolongate,
+        });
+    }
+    Ok(kinds)
 }
 
 /// Jacobi PBD: corrections, their gather, then the soft attachments (as

@@ -234,6 +234,9 @@ impl GpuBackend {
             if control.grab.is_some() {
                 pass.set_pipeline(&st.grab);
                 pass.dispatch_workgroups(1, 1, 1);
+                if let Some(reach) = &st.grab_reach {
+                    dispatch(pass, reach, None);
+                }
             }
         });
         pass(TimedStage::SelfContacts, &mut |pass| {

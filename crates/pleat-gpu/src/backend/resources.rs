@@ -21,6 +21,7 @@ use glam::Vec3;
 use pleat::constraint::Compliances;
 use pleat::mesh::incidence::Incidence;
 use pleat::model::Model;
+use pleat::solver::grab_reach::GrabReach;
 use pleat::solver::parallel::ColoredConstraints;
 use pleat::solver::position_based::attachments;
 use pleat::solver::{SolverKind, SolverSettings};
@@ -87,6 +88,9 @@ pub(super) struct KernelBuffers {
     pub(super) thickness: wgpu::Buffer,
     pub(super) whole: (u32, u32),
     pub(super) self_contact: Option<SelfContactBuffers>,
+    /// The grabbed particle's reach (XPBD): rest positions with reach
+    /// factors, each particle's cloth, the dispatch over the particles.
+    pub(super) grab_reach: Option<([wgpu::Buffer; 2], (u32, u32))>,
 }
 
 /// The self-contact hash grid and its inputs and outputs.
@@ -255,6 +259,16 @@ impl GpuBackend {
         let whole = table.push(0, 0);
         let paper = PaperEdges::of(model);
         let paper_range = table.push(0, paper.len());
+        let grab_reach = (settings.kind != SolverKind::JacobiPbd).then(|| {
+            let reach = GrabReach::new(model);
+            (
+                [
+                    storage(device, "grab reach", &reach.rest),
+                    storage(device, "cloth of each particle", &reach.cloth),
+                ],
+                table.push(0, n as u32),
+            )
+        });
         let projection = match settings.kind {
             SolverKind::JacobiPbd => {
                 jacobi_projection(context, model, soft, hard_pins.len(), &mut table)?
@@ -304,6 +318,7 @@ impl GpuBackend {
             whole,
             collider_shapes: colliders,
             self_contact: contact,
+            grab_reach,
         };
         let ranges = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("ranges"),
@@ -346,6 +361,7 @@ impl GpuBackend {
         let lambdas = buffers
             .constraints
             .iter()
+            .filter(|k| k.kind.has_multipliers())
             .map(|k| k.lambda.clone())
             .collect();
         let stages = Stages::new(

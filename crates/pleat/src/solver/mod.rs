@@ -2,6 +2,8 @@
 //! [`Solver`] interface, so scenes choose one by name.
 
 pub mod coloring;
+pub mod grab_reach;
+pub mod hierarchy;
 pub mod jacobi;
 pub mod mass_spring;
 pub mod momentum;

@@ -5,6 +5,8 @@
 //! (when enabled) and collider contacts and derives velocities from the
 //! change of position.
 
+use super::grab_reach::GrabReach;
+use super::hierarchy::Hierarchy;
 use super::momentum::FreeParts;
 use super::parallel::ColoredConstraints;
 use super::position_based::{attachments, inverse_masses, update_velocities, Contacts, Prediction};
@@ -84,6 +86,8 @@ pub struct Xpbd {
     /// Wind, prediction and the hard pins (attachments with compliance zero).
     prediction: Prediction,
     contacts: Contacts,
+    /// The reach of a grabbed particle over its cloth.
+    grab_reach: GrabReach,
     /// Self-collision and cloth-cloth contact, when enabled.
     self_contacts: Option<SelfContacts>,
 }
@@ -105,6 +109,9 @@ pub struct XpbdConstraints {
     pub tethers: ColoredConstraints<Tether>,
     /// Attachments with compliance: solved with the other constraints.
     pub soft_attachments: ColoredConstraints<Attachment>,
+    /// The coarse levels of the cloths that hold their length, solved
+    /// before the rest in each iteration.
+    pub hierarchy: Hierarchy,
     /// Sweeps of the distances' strain limits after the iterations, at the
     /// least: [`STRAIN_LIMIT_SWEEPS`] where an edge has a limit, else none.
     pub strain_limit_sweeps: u32,
@@ -219,6 +226,7 @@ impl XpbdConstraints {
         XpbdConstraints {
             strain_limit_sweeps,
             free_parts: FreeParts::new(model, &inv_mass),
+            hierarchy: Hierarchy::new(model, &inv_mass),
             fold_limits,
             distance,
             bending: ColoredConstraints::new(bending, n),
@@ -237,6 +245,7 @@ impl XpbdConstraints {
             + self.hinges.len()
             + self.tethers.len()
             + self.soft_attachments.len()
+            + self.hierarchy.len()
     }
 
     /// Whether there is no constraint at all.
@@ -275,6 +284,7 @@ impl XpbdConstraints {
         self.soft_attachments.reset_lambda();
         for _ in 0..iterations {
             let (x, w) = (&mut p.x, &p.inv_mass);
+            self.hierarchy.solve(x, w, step);
             self.hinges.solve(x, w, step);
             self.distance.solve(x, w, step);
             self.bending.solve(x, w, step);
@@ -331,6 +341,7 @@ impl Xpbd {
             constraints: XpbdConstraints::new(model),
             prediction,
             contacts: Contacts::new(model),
+            grab_reach: GrabReach::new(model),
             self_contacts: settings
                 .self_collision
                 .enabled
@@ -355,6 +366,9 @@ impl Xpbd {
             self.constraints.project(p, iterations, &step, (t + dt, dt));
             if let Some(grab) = &control.grab {
                 grab.project(&mut p.x, &p.inv_mass, dt);
+                let (x, w) = (&mut p.x, &p.inv_mass);
+                self.grab_reach
+                    .project(x, w, grab.particle, &self.compliances);
             }
         });
         if let Some(self_contacts) = &mut self.self_contacts {

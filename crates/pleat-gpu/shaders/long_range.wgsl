@@ -1,0 +1,27 @@
+// The coarse edges of the hierarchy (pleat::solver::hierarchy), one colour
+// per dispatch: two particles of a level pulled together, by the level's
+// inverse masses, until they are no farther apart than the limit; never
+// pushed.
+
+@group(1) @binding(0) var<storage, read_write> items: array<LongRangeLimit>;
+
+@compute @workgroup_size(256)
+fn solve(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let j = range_item(gid, groups);
+    if j == NONE { return; }
+    let c = items[j];
+    if c.slot != NONE && compliances[c.slot / 4u][c.slot % 4u] != 0.0 {
+        return;
+    }
+    let wa = c.wa;
+    let wb = c.wb;
+    let d = position(c.a) - position(c.b);
+    let len = length(d);
+    let excess = len - c.max_length;
+    if excess > 0.0 && wa + wb > 0.0 {
+        let n = d / len;
+        let s = excess / (wa + wb);
+        move_by(c.a, n * (-wa * s));
+        move_by(c.b, n * (wb * s));
+    }
+}
