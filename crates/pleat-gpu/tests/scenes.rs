@@ -538,4 +538,3 @@ fn stage_times_keep_coming_after_the_substeps_are_raised() {
         "{s:?}"
     );
 }
-

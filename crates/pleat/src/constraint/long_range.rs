@@ -17,9 +17,10 @@ pub struct LongRangeLimit {
     pub v: [u32; 2],
     /// The farthest apart the ends may be (m).
     pub max_length: f32,
-    /// The ends' inverse masses as the level sees them: each particle with
-    /// the share of the finer particles that follow it (0 for a pin), so
-    /// that a level's corrections, handed down, keep the momentum.
+    /// The ends' inverse masses as the level sees them (0 for a pin): on a
+    /// free cloth each particle with the share of the finer particles that
+    /// follow it, so that a level's corrections, handed down, keep the
+    /// momentum ([`crate::solver::hierarchy`]).
     pub inv_mass: [f32; 2],
     /// The live stretch compliance of the cloth ([`super::compliances`]):
     /// the limit holds while it is zero; [`ALWAYS_HELD`] for a cloth with a

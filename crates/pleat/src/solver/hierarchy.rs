@@ -18,9 +18,11 @@
 //! each particle of the level below that is not in it moves by the
 //! weighted mean of what its nearest particles of the level moved since
 //! the hierarchy began (the prolongation), and the next finer level is
-//! solved. A level weighs each of its particles with the share of the
-//! finer particles that follow it, so that its corrections, handed down,
-//! keep the cloth's momentum.
+//! solved. On a cloth nothing holds, a level weighs each of its particles
+//! with the share of the finer particles that follow it, so that its
+//! corrections, handed down, keep the cloth's momentum; on a held one, whose
+//! pins take momentum anyway, each particle keeps its own mass, which
+//! converges faster (max stretch 1.04 against 1.54 at 512 x 512 after 1 s).
 //!
 //! The limits are unilateral: they never push, so a cloth folds and
 //! crumples as before, and since no bending of a sheet moves two of its
@@ -32,6 +34,7 @@
 //! compliance says. Paper has none: its folds are driven, its edges
 //! stretch while they move.
 
+use super::momentum::FreeParts;
 use super::parallel::ColoredConstraints;
 use crate::constraint::{ComplianceKind, Compliances, LongRangeLimit, Substep, ALWAYS_HELD};
 use crate::model::{ClothPart, Model};
@@ -116,10 +119,12 @@ impl Hierarchy {
     pub fn new(model: &Model, inv_mass: &[f32]) -> Self {
         let n = model.particle_count();
         let mut levels: Vec<(Vec<LongRangeLimit>, Vec<Prolongation>)> = Vec::new();
+        let free = FreeParts::new(model, inv_mass);
         let cloths = model.cloths.iter().enumerate();
         for (index, cloth) in cloths.filter(|(_, c)| c.paper.is_none()) {
+            let is_free = free.ranges().contains(&cloth.particles());
             let slot = held_slot(cloth, index);
-            let built = cloth_levels(cloth, &model.rest, inv_mass, slot);
+            let built = cloth_levels(cloth, &model.rest, inv_mass, (slot, is_free));
             for (depth, (limits, prolongation)) in built.into_iter().enumerate() {
                 if levels.len() == depth {
                     levels.push(Default::default());
@@ -220,12 +225,12 @@ fn cloth_levels(
     cloth: &ClothPart,
     rest: &[Vec3],
     inv_mass: &[f32],
-    slot: u32,
+    (slot, free): (u32, bool),
 ) -> Vec<(Vec<LongRangeLimit>, Vec<Prolongation>)> {
     let mut graph = stretch_graph(cloth, rest);
     let first = cloth.particles().start;
     // Each particle's mass with the share of the finer particles that
-    // follow it (infinite for a pin).
+    // follow it (infinite for a pin): the masses of a free cloth's levels.
     let mut mass: Vec<f64> = cloth
         .particles()
         .map(|i| match inv_mass[i] {
@@ -249,7 +254,10 @@ fn cloth_levels(
                 mass[c as usize - first] += w as f64 * follower;
             }
         }
-        let limits = limits_of(&next, |p| (1.0 / mass[p as usize - first]) as f32, slot);
+        let limits = match free {
+            true => limits_of(&next, |p| (1.0 / mass[p as usize - first]) as f32, slot),
+            false => limits_of(&next, |p| inv_mass[p as usize], slot),
+        };
         if limits.is_empty() {
             break;
         }
