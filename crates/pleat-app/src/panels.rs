@@ -14,7 +14,8 @@ impl PleatApp {
     /// Draws the side panel's contents; changes the app or queues commands.
     pub(crate) fn side_panel(&mut self, ui: &mut egui::Ui) {
         let app = self;
-        egui::ScrollArea::vertical().show(ui, |ui| {
+        // Both ways: a long label on a narrow panel scrolls, never cut off.
+        egui::ScrollArea::both().show(ui, |ui| {
             ui.heading("pleat");
             scene_menus(ui, app);
             ui.separator();
