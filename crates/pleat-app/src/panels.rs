@@ -196,9 +196,11 @@ fn format_value(v: f64) -> String {
 
 fn statistics(ui: &mut egui::Ui, app: &mut PleatApp) {
     let probe = &app.probe;
+    // Two short lines: a narrow panel shows them whole.
+    ui.label(format!("drawn {:.0} fps, frame {}", probe.fps, probe.frame));
     ui.label(format!(
-        "drawn {:.0} fps; simulated {:.1} steps/s ({:.2} x real time), frame {}",
-        probe.fps, probe.steps_per_second, probe.sim_speed, probe.frame
+        "simulated {:.1} steps/s ({:.2} x real time)",
+        probe.steps_per_second, probe.sim_speed
     ));
     let Some(session) = &app.session else { return };
     ui.label(format!(
