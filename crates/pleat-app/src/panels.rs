@@ -52,7 +52,7 @@ fn scene_menus(ui: &mut egui::Ui, app: &mut PleatApp) {
     let current = app.demo.map_or("(dropped file)", |d| d.title);
     egui::ComboBox::from_label("demo")
         .selected_text(current)
-        .width(220.0)
+        .width(180.0)
         .show_ui(ui, |ui| {
             for demo in DEMOS {
                 if ui
@@ -69,7 +69,7 @@ fn scene_menus(ui: &mut egui::Ui, app: &mut PleatApp) {
             .map_or("(scene's own)".to_string(), |p| p.label());
         egui::ComboBox::from_label("pattern")
             .selected_text(label)
-            .width(220.0)
+            .width(180.0)
             .show_ui(ui, |ui| {
                 for choice in pattern_choices() {
                     if ui
