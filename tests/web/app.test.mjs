@@ -194,11 +194,16 @@ try {
     // The page measures over its last 10 s: let it run that long first.
     await until(page, "the flag", (s) => s.frame >= 3);
     await page.waitForTimeout(10500);
-    const first = await state(page);
-    const t0 = Date.now();
-    await page.waitForTimeout(10000);
-    const last = await state(page);
-    const counted = (last.frame - first.frame) / ((Date.now() - t0) / 1000);
+    // The test's window starts and ends as a step lands (polled every
+    // 20 ms), so its own count is whole steps over their time.
+    const stepAfter = async (frame) => {
+      await page.waitForFunction((n) => JSON.parse(window.pleatState).frame > n, frame, { polling: 20, timeout: 60000 });
+      return [await state(page), Date.now()];
+    };
+    const [first, t0] = await stepAfter((await state(page)).frame);
+    await page.waitForTimeout(9500);
+    const [last, t1] = await stepAfter((await state(page)).frame);
+    const counted = (last.frame - first.frame) / ((t1 - t0) / 1000);
     rates.window_10s = { counted: Number(counted.toFixed(3)), panel: last.steps_per_second };
     assert.ok(last.frame - first.frame >= 5, `only ${last.frame - first.frame} frames in 10 s`);
     const error = Math.abs(last.steps_per_second - counted) / counted;
