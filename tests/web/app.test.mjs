@@ -4,9 +4,13 @@
 //   node app.test.mjs DIST [SCREENSHOTS]
 //
 // DIST is the folder `cargo xtask web --no-serve` wrote; SCREENSHOTS, when
-// given, receives a PNG of each demo and a frame-rate table (fps.json).
-// The page says how it runs in `window.pleatState` (JSON text) and takes
-// parameters through `window.pleat.set(name, value)`.
+// given, receives a PNG of each demo at 1280 x 720 and at 390 x 844 (a
+// phone held upright), of the device-lost message and of the unstable
+// banner, and a frame-rate table (fps.json); docs/app.md says how they
+// refresh docs/screenshots. The page says how it runs in
+// `window.pleatState` (JSON text), takes parameters through
+// `window.pleat.set(name, value)` and loses its WebGPU device on
+// `window.pleatLoseDevice()`.
 
 import { chromium } from "playwright-core";
 import assert from "node:assert/strict";
@@ -16,6 +20,10 @@ import path from "node:path";
 
 // Each demo and the backend it opens on (self-contacts run faster on the CPU).
 const DEMOS = { rigid: "gpu", fold: "gpu", sdf: "gpu", wind: "gpu", self: "cpu", drape: "gpu" };
+// The page's size while it runs, and the sizes it is pictured at.
+const RUN = { width: 1024, height: 640 };
+const WIDE = { width: 1280, height: 720 };
+const PHONE = { width: 390, height: 844 };
 const TYPES = { ".html": "text/html", ".js": "text/javascript", ".wasm": "application/wasm" };
 const [dist, shots] = process.argv.slice(2);
 if (!dist) {
@@ -79,6 +87,27 @@ async function notBlank(page, png) {
   return stats.colours > 50 && stats.deviation > 10 ? true : stats;
 }
 
+// Resizes the page to `size` and checks that the app lays itself out there
+// (the controls beside the view, or a sheet under it on a narrow page, all
+// inside the window); with `picture`, returns a screenshot of it.
+async function fitsAt(page, size, picture = true) {
+  await page.setViewportSize(size);
+  const shown = await until(page, `the app at ${size.width} x ${size.height}`,
+    (s) => s.screen[0] === size.width && s.controls !== null, 30);
+  const [x0, y0, x1, y1] = shown.controls;
+  const inside = x0 >= 0 && y0 >= 0 && x1 <= size.width + 0.5 && y1 <= size.height + 0.5;
+  assert.ok(inside, `controls at ${shown.controls} in ${size.width} x ${size.height}`);
+  if (size.width < 700) {
+    assert.ok(x0 <= 0.5 && x1 >= size.width - 0.5 && y0 > size.height * 0.3, `a sheet at the bottom: ${shown.controls}`);
+  } else {
+    assert.ok(x0 <= 0.5 && y1 >= size.height - 0.5 && x1 < size.width * 0.5, `a panel on the left: ${shown.controls}`);
+  }
+  if (!picture) return null;
+  // Frames drawn at the new size (the view's picture resized) first.
+  await until(page, "frames at the new size", (s) => s.drawn >= shown.drawn + 2, 30);
+  return page.screenshot({ timeout: 120000 });
+}
+
 const LAUNCH_ARGS = [
     // WebGPU on SwiftShader's Vulkan (without a GPU): with these the
     // WebGPU canvas is composited, so screenshots show it.
@@ -95,7 +124,7 @@ const browser = await chromium.launch({
   executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium",
   args: LAUNCH_ARGS,
 });
-const page = await browser.newPage({ viewport: { width: 1024, height: 640 } });
+const page = await browser.newPage({ viewport: RUN });
 const logs = [];
 page.on("console", (m) => logs.push(`${m.type()}: ${m.text()}`));
 page.on("pageerror", (e) => logs.push(`pageerror: ${e.message}`));
@@ -147,12 +176,54 @@ try {
         device: timed.device,
       };
       assert.ok(Number.isFinite(timed.steps_per_second) && timed.steps_per_second > 0, JSON.stringify(timed));
-      const png = await page.screenshot({ timeout: 120000 });
-      if (shots) fs.writeFileSync(path.join(shots, `${demo}.png`), png);
-      const blank = await notBlank(page, png);
-      assert.equal(blank, true, `the screenshot is blank: ${JSON.stringify(blank)}`);
+      // Pictured at both sizes for the docs; in CI (no SCREENSHOTS) the
+      // phone's layout is checked without a picture, to save time.
+      for (const size of [WIDE, PHONE]) {
+        const png = await fitsAt(page, size, shots || size === WIDE);
+        if (!png) continue;
+        if (shots) fs.writeFileSync(path.join(shots, `${demo}-${size.width}x${size.height}.png`), png);
+        const blank = await notBlank(page, png);
+        assert.equal(blank, true, `the screenshot is blank: ${JSON.stringify(blank)}`);
+      }
+      await page.setViewportSize(RUN);
     });
   }
+
+  await check("the panel's simulation rate matches the frames counted over 10 s (within 10 %)", async () => {
+    await page.goto(`${base}?demo=wind`);
+    // The page measures over its last 10 s: let it run that long first.
+    await until(page, "the flag", (s) => s.frame >= 3);
+    await page.waitForTimeout(10500);
+    // The test's window starts and ends as a step lands (polled every
+    // 20 ms), so its own count is whole steps over their time.
+    const stepAfter = async (frame) => {
+      await page.waitForFunction((n) => JSON.parse(window.pleatState).frame > n, frame, { polling: 20, timeout: 60000 });
+      return [await state(page), Date.now()];
+    };
+    const [first, t0] = await stepAfter((await state(page)).frame);
+    await page.waitForTimeout(9500);
+    const [last, t1] = await stepAfter((await state(page)).frame);
+    const counted = (last.frame - first.frame) / ((t1 - t0) / 1000);
+    rates.window_10s = { counted: Number(counted.toFixed(3)), panel: last.steps_per_second };
+    assert.ok(last.frame - first.frame >= 5, `only ${last.frame - first.frame} frames in 10 s`);
+    const error = Math.abs(last.steps_per_second - counted) / counted;
+    assert.ok(error <= 0.1, `panel ${last.steps_per_second} steps/s, counted ${counted.toFixed(3)}: ${(error * 100).toFixed(1)} % apart`);
+  });
+
+  await check("a lost device shows the message and the run goes on on a new device", async () => {
+    await page.goto(`${base}?demo=wind`);
+    const before = await until(page, "the flag", (s) => s.frame >= 10);
+    await page.evaluate(() => window.pleatLoseDevice());
+    const back = await until(page, "the recovery", (s) => s.device_lost !== null && s.frame >= before.frame + 10);
+    assert.match(back.device_lost, /^the GPU device was lost at frame \d+ \(destroyed.*\); recovered: the simulation continues on a new GPU device from t = \d+\.\d+ s/);
+    const t = Number(back.device_lost.match(/from t = (\d+\.\d+) s/)[1]);
+    assert.ok(t > 0, `the run went on from its state, not from the start: ${back.device_lost}`);
+    assert.equal(back.backend, "gpu", JSON.stringify(back));
+    assert.equal(back.last_error, null);
+    assert.ok(!back.unstable && back.centroid.every(Number.isFinite) && Number.isFinite(back.max_stretch), JSON.stringify(back));
+    if (shots) fs.writeFileSync(path.join(shots, "device-lost.png"), await fitsAt(page, WIDE));
+    await page.setViewportSize(RUN);
+  });
 
   await check("changing a parameter changes the simulation (gravity up lifts the flag)", async () => {
     await page.goto(`${base}?demo=wind`);
@@ -222,7 +293,8 @@ try {
     await page.waitForTimeout(2000);
     const still = await state(page);
     assert.equal(still.frame, halted.frame, "paused: no frame stepped over the unstable state");
-    if (shots) fs.writeFileSync(path.join(shots, "unstable.png"), await page.screenshot({ timeout: 120000 }));
+    if (shots) fs.writeFileSync(path.join(shots, "unstable.png"), await fitsAt(page, WIDE));
+    await page.setViewportSize(RUN);
   });
 
   await check("a dropped crease pattern folds, and clears the bad drop's error", async () => {

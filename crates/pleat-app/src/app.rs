@@ -1,8 +1,11 @@
 //! The app: one [`PleatApp`] drives the panels, the 3D view and the
 //! simulation every frame, natively and in the browser. It never blocks on
-//! the GPU: state comes back between frames ([`Session::poll`]).
+//! the GPU: state comes back between frames ([`Session::poll`]). A lost
+//! device hands the run over to a new start on a new device
+//! ([`crate::recovery`]).
 
 use crate::demos::{shipped_files, Demo, PatternChoice};
+use crate::device::DeviceWatch;
 use crate::platform::Inbox;
 use crate::plot::History;
 use crate::probe::Probe;
@@ -16,6 +19,10 @@ use web_time::Instant;
 
 /// Frames over which the per-stage timings are averaged.
 const STAGE_WINDOW: u32 = 30;
+
+/// Below this width (points) the controls are a sheet under the view (a
+/// phone held upright), not a panel beside it.
+const NARROW: f32 = 700.0;
 
 /// How the app starts (from the command line or the page's URL).
 #[derive(Clone, Debug)]
@@ -77,14 +84,56 @@ pub struct PleatApp {
     /// The scene (its `opened` count) whose instability paused the run:
     /// it pauses once, and the person may play on.
     halted: Option<u64>,
+    /// Loss and errors of the device eframe draws on (and the GPU
+    /// backend runs on).
+    watch: Option<DeviceWatch>,
+    /// Whether this app lost its device and handed its run over.
+    handed_over: bool,
+    /// Whether the controls are shown (a button hides them).
+    controls_open: bool,
 }
 
 impl PleatApp {
     /// The app on eframe's wgpu device (shared by the renderer and the GPU
     /// backend), opening what `options` ask for.
     pub fn new(cc: &eframe::CreationContext<'_>, options: Options) -> Self {
-        let gpu = cc.wgpu_render_state.as_ref().and_then(compute_context);
-        let mut app = PleatApp {
+        let mut app = PleatApp::bare(options.backend);
+        app.attach(cc);
+        if options.files.is_empty() {
+            app.commands.push(Command::Demo(options.demo));
+        } else {
+            app.commands.push(Command::Open(options.files));
+        }
+        app.commands
+            .extend(options.set.into_iter().map(|(n, v)| Command::Set(n, v)));
+        app
+    }
+
+    /// The run `old` handed over when its device was lost, on the new
+    /// device eframe made: the simulation built again from the state last
+    /// read back, the view drawn anew, the panels and counters as they were.
+    pub fn resume(cc: &eframe::CreationContext<'_>, mut old: PleatApp) -> Self {
+        old.attach(cc);
+        old.viewport = old.viewport.on_new_device();
+        old.generation += 1;
+        let lost = old.probe.device_lost.take().unwrap_or_default();
+        let resumed = match &mut old.session {
+            Some(session) => session.recover(old.gpu.clone()).map_err(|e| e.to_string()),
+            None => Ok("no scene was open".into()),
+        };
+        old.probe.device_lost = Some(match resumed {
+            Ok(how) => format!("{lost}; recovered: {how}"),
+            Err(e) => {
+                old.session = None;
+                format!("{lost}; the scene could not be built again: {e}")
+            }
+        });
+        old
+    }
+
+    /// An app with nothing open and no device yet.
+    fn bare(backend: BackendChoice) -> Self {
+        PleatApp {
             session: None,
             demo: None,
             pattern: None,
@@ -97,22 +146,67 @@ impl PleatApp {
             stage_frames: None,
             opened: 0,
             generation: 0,
-            gpu,
-            backend: options.backend,
+            gpu: None,
+            backend,
             files: shipped_files(),
             inbox: Inbox::default(),
             last_frame: None,
             step_once: false,
             halted: None,
-        };
-        if options.files.is_empty() {
-            app.commands.push(Command::Demo(options.demo));
-        } else {
-            app.commands.push(Command::Open(options.files));
+            watch: None,
+            handed_over: false,
+            controls_open: true,
         }
-        app.commands
-            .extend(options.set.into_iter().map(|(n, v)| Command::Set(n, v)));
-        app
+    }
+
+    /// Takes eframe's wgpu device (shared by the renderer and the GPU
+    /// backend) and watches it.
+    fn attach(&mut self, cc: &eframe::CreationContext<'_>) {
+        let state = cc.wgpu_render_state.as_ref();
+        self.gpu = state.and_then(compute_context);
+        self.watch = state.map(|s| DeviceWatch::attach(&s.device));
+    }
+
+    /// Loses the device on purpose (for tests), as a driver reset would.
+    pub fn lose_device(&self) {
+        if let Some(watch) = &self.watch {
+            watch.destroy();
+        }
+    }
+
+    /// Whether the device has been lost.
+    fn device_gone(&self) -> bool {
+        self.handed_over || self.watch.as_ref().is_some_and(|w| w.lost().is_some())
+    }
+
+    /// Reads the device's watch: shows its uncaptured errors, and once it
+    /// is lost hands the run over to a new start of eframe on a new
+    /// device. Says whether the device is gone.
+    fn watch_device(&mut self, ctx: &egui::Context) -> bool {
+        if crate::platform::take_lose_request() {
+            self.lose_device();
+        }
+        if self.handed_over {
+            return true;
+        }
+        let Some(watch) = &self.watch else {
+            return false;
+        };
+        if let Some(reason) = watch.lost() {
+            let frame = self.probe.frame;
+            let mut run = std::mem::replace(self, PleatApp::bare(self.backend));
+            run.probe.device_lost = Some(format!(
+                "the GPU device was lost at frame {frame} ({reason})"
+            ));
+            crate::recovery::hand_over(run);
+            self.handed_over = true;
+            crate::platform::restart(ctx);
+            return true;
+        }
+        for error in watch.take_errors() {
+            self.fail(format!("GPU error: {error}"));
+        }
+        false
     }
 
     /// Shows `message` as the app's error (it keeps running).
@@ -259,6 +353,13 @@ impl PleatApp {
             Ok(false) => {}
             Err(e) => self.probe.last_error = Some(e),
         }
+        if self.device_gone() {
+            // A read that failed as the device went is not the state.
+            return;
+        }
+        let Some(session) = &mut self.session else {
+            return;
+        };
         if (self.playing || self.step_once) && !session.is_pending() {
             session.step(1.0 / session.scene.fps);
             self.probe.frame += 1;
@@ -310,6 +411,11 @@ fn compute_context(state: &eframe::egui_wgpu::RenderState) -> Option<GpuContext>
 impl eframe::App for PleatApp {
     fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
         let ctx = ui.ctx().clone();
+        // Nothing is drawn on a lost device: egui's painter would fail
+        // (natively it panics when its buffers cannot be written).
+        if self.watch_device(&ctx) {
+            return;
+        }
         crate::platform::receive_drops(&ctx, &self.inbox);
         self.take_inbox();
         for (name, value) in crate::platform::take_commands() {
@@ -319,12 +425,21 @@ impl eframe::App for PleatApp {
             self.run(command);
         }
         self.advance(Instant::now());
-        egui::Panel::left("controls")
-            .resizable(true)
-            .default_size(300.0)
-            .show(ui, |ui| self.side_panel(ui));
+        if self.watch_device(&ctx) {
+            return; // Lost while the state was read.
+        }
+        self.controls(ui);
         egui::CentralPanel::default().show(ui, |ui| {
+            let label = if self.controls_open {
+                "hide controls"
+            } else {
+                "show controls"
+            };
+            if ui.small_button(label).clicked() {
+                self.controls_open = !self.controls_open;
+            }
             self.error_bar(ui);
+            self.device_lost_banner(ui);
             self.instability_banner(ui);
             let (Some(state), Some(session)) = (frame.wgpu_render_state(), &mut self.session)
             else {
@@ -348,6 +463,33 @@ impl eframe::App for PleatApp {
 }
 
 impl PleatApp {
+    /// The controls, when open: a panel on the left of a wide window, a
+    /// sheet under the view of a narrow one; either scrolls.
+    fn controls(&mut self, ui: &mut egui::Ui) {
+        let area = ui.available_rect_before_wrap();
+        self.probe.screen = [area.width(), area.height()];
+        self.probe.controls = None;
+        if !self.controls_open {
+            return;
+        }
+        let shown = if area.width() < NARROW {
+            let height = area.height();
+            egui::Panel::bottom("controls sheet")
+                .resizable(true)
+                .default_size(height * 0.42)
+                .size_range(100.0..=height * 0.75)
+                .show(ui, |ui| self.side_panel(ui))
+        } else {
+            egui::Panel::left("controls")
+                .resizable(true)
+                .default_size(300.0)
+                .size_range(220.0..=area.width() * 0.45)
+                .show(ui, |ui| self.side_panel(ui))
+        };
+        let r = shown.response.rect;
+        self.probe.controls = Some([r.min.x, r.min.y, r.max.x, r.max.y]);
+    }
+
     /// The banner of an unstable run: what happened, when and where, with
     /// reset at hand.
     fn instability_banner(&mut self, ui: &mut egui::Ui) {
@@ -360,13 +502,34 @@ impl PleatApp {
             .fill(egui::Color32::from_rgb(140, 90, 10))
             .inner_margin(6.0)
             .show(ui, |ui| {
-                ui.horizontal(|ui| {
+                ui.horizontal_wrapped(|ui| {
                     ui.colored_label(egui::Color32::WHITE, format!("{what}{paused}"));
                     reset = ui.button("reset").clicked();
                 });
             });
         if reset {
             self.commands.push(Command::Reset);
+        }
+    }
+
+    /// The banner of a device lost and recovered: when, and where the run
+    /// went on.
+    fn device_lost_banner(&mut self, ui: &mut egui::Ui) {
+        let Some(what) = self.probe.device_lost.clone() else {
+            return;
+        };
+        let mut dismissed = false;
+        egui::Frame::new()
+            .fill(egui::Color32::from_rgb(40, 70, 130))
+            .inner_margin(6.0)
+            .show(ui, |ui| {
+                ui.horizontal_wrapped(|ui| {
+                    ui.colored_label(egui::Color32::WHITE, what);
+                    dismissed = ui.button("dismiss").clicked();
+                });
+            });
+        if dismissed {
+            self.probe.device_lost = None;
         }
     }
 
@@ -379,7 +542,7 @@ impl PleatApp {
             .fill(egui::Color32::from_rgb(120, 30, 30))
             .inner_margin(6.0)
             .show(ui, |ui| {
-                ui.horizontal(|ui| {
+                ui.horizontal_wrapped(|ui| {
                     ui.colored_label(egui::Color32::WHITE, &error);
                     dismissed = ui.button("dismiss").clicked();
                 });

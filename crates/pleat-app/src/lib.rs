@@ -10,6 +10,7 @@
 
 pub mod app;
 pub mod demos;
+pub mod device;
 pub mod dropped;
 mod legend;
 mod orbit;
@@ -18,6 +19,7 @@ pub mod params;
 mod platform;
 mod plot;
 pub mod probe;
+pub mod recovery;
 pub mod session;
 mod software;
 mod viewport;
@@ -56,41 +58,62 @@ pub fn wgpu_options() -> eframe::egui_wgpu::WgpuConfiguration {
     }
 }
 
+#[cfg(target_arch = "wasm32")]
+thread_local! {
+    /// The page's one runner: a new start (after a lost device) replaces
+    /// the app it runs.
+    static RUNNER: eframe::WebRunner = eframe::WebRunner::new();
+}
+
 /// Starts the app on the page's `<canvas id="pleat">`, with the demo and
 /// backend the URL asks for (`?demo=fold&backend=cpu`).
 #[cfg(target_arch = "wasm32")]
 #[wasm_bindgen::prelude::wasm_bindgen(start)]
 pub fn start() {
+    start_on_page();
+}
+
+/// Starts eframe on the page's canvas (again, after a lost device: a new
+/// device, and the run handed over resumes on it), after the current
+/// frame; a failure goes to `window.pleatStartError`.
+#[cfg(target_arch = "wasm32")]
+pub(crate) fn start_on_page() {
+    wasm_bindgen_futures::spawn_local(async {
+        if let Err(e) = run_on_page().await {
+            let message = format!("pleat could not start: {e}");
+            if let Some(window) = web_sys::window() {
+                let _ = js_sys::Reflect::set(&window, &"pleatStartError".into(), &message.into());
+            }
+        }
+    });
+}
+
+#[cfg(target_arch = "wasm32")]
+async fn run_on_page() -> Result<(), String> {
     use wasm_bindgen::JsCast;
-    let options = url_options();
+    let canvas = web_sys::window()
+        .and_then(|w| w.document())
+        .and_then(|d| d.get_element_by_id("pleat"))
+        .and_then(|e| e.dyn_into::<web_sys::HtmlCanvasElement>().ok())
+        .ok_or("the page has no <canvas id=\"pleat\">")?;
     let web_options = eframe::WebOptions {
         wgpu_options: wgpu_options(),
         ..Default::default()
     };
-    wasm_bindgen_futures::spawn_local(async move {
-        let document = web_sys::window()
-            .and_then(|w| w.document())
-            .expect("a document");
-        let canvas = document
-            .get_element_by_id("pleat")
-            .and_then(|e| e.dyn_into::<web_sys::HtmlCanvasElement>().ok())
-            .expect("a <canvas id=\"pleat\">");
-        let started = eframe::WebRunner::new()
-            .start(
-                canvas,
-                web_options,
-                Box::new(|cc| Ok(Box::new(PleatApp::new(cc, options)))),
-            )
-            .await;
-        if let Err(e) = started {
-            let message = format!("pleat could not start: {e:?}");
-            let _ = js_sys::Reflect::set(
-                &web_sys::window().expect("a window"),
-                &"pleatStartError".into(),
-                &message.into(),
-            );
-        }
-    });
+    let runner = RUNNER.with(Clone::clone);
+    runner
+        .start(
+            canvas,
+            web_options,
+            Box::new(|cc| {
+                Ok(Box::new(match recovery::take() {
+                    Some(run) => PleatApp::resume(cc, run),
+                    None => PleatApp::new(cc, url_options()),
+                }))
+            }),
+        )
+        .await
+        .map_err(|e| format!("{e:?}"))
 }
 
 /// The options the page's URL gives.

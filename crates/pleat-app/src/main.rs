@@ -1,6 +1,8 @@
 //! The native app: `pleat-app [FILES] [--demo ID] [--backend cpu|gpu]`, and
 //! for tests `--frames N --screenshot out.png` (a picture of the window
-//! after N frames, then exit, printing the app's state as JSON).
+//! after N frames, then exit, printing the app's state as JSON) and
+//! `--lose-device-at N` (the device destroyed at frame N: the window opens
+//! again on a new device and the run goes on).
 
 #[cfg(not(target_arch = "wasm32"))]
 fn main() -> std::process::ExitCode {
@@ -14,7 +16,7 @@ fn main() {}
 mod native {
     use clap::Parser;
     use eframe::egui;
-    use pleat_app::{BackendChoice, Options, PleatApp};
+    use pleat_app::{recovery, BackendChoice, Options, PleatApp};
     use std::path::PathBuf;
     use std::process::ExitCode;
     use std::sync::{Arc, Mutex};
@@ -40,6 +42,10 @@ mod native {
         /// Writes a PNG of the window after --frames frames and exits.
         #[arg(long)]
         screenshot: Option<PathBuf>,
+        /// Loses the GPU device on purpose at this frame (a test of the
+        /// recovery).
+        #[arg(long)]
+        lose_device_at: Option<u64>,
         /// Window size in points.
         #[arg(long, value_parser = parse_size, default_value = "1280x800")]
         size: [f32; 2],
@@ -87,36 +93,51 @@ mod native {
         })
     }
 
-    /// The app, and the screenshot it takes after a number of frames.
-    struct Shooter {
-        app: PleatApp,
+    /// The screenshot to take after a number of frames (and the frame to
+    /// lose the device at), shared by the windows a lost device opens.
+    struct Shot {
         frames: u64,
         path: PathBuf,
-        requested: bool,
-        /// App frames drawn: a run whose scene never opens gives up.
-        drawn: u64,
+        lose_at: Option<u64>,
         result: Arc<Mutex<Option<Result<(), String>>>>,
         state: Arc<Mutex<String>>,
     }
 
+    /// The app, and the screenshot it takes.
+    struct Shooter {
+        app: PleatApp,
+        shot: Shot,
+        requested: bool,
+        /// App frames drawn: a run whose scene never opens gives up.
+        drawn: u64,
+    }
+
     impl eframe::App for Shooter {
         fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
+            let shot = &self.shot;
+            let lose = shot.lose_at.is_some_and(|at| self.app.probe.frame >= at);
+            if lose && self.app.probe.device_lost.is_none() {
+                self.app.lose_device();
+            }
             self.app.ui(ui, frame);
-            *self.state.lock().expect("state") = self.app.probe.to_json();
+            if recovery::is_pending() {
+                return; // The window closes; the next one resumes the run.
+            }
+            *shot.state.lock().expect("state") = self.app.probe.to_json();
             let ctx = ui.ctx().clone();
             self.drawn += 1;
-            if self.drawn > self.frames * 20 + 600 && !self.requested {
+            if self.drawn > shot.frames * 20 + 600 && !self.requested {
                 let why = self.app.probe.last_error.clone().unwrap_or_default();
-                *self.result.lock().expect("result") = Some(Err(format!(
+                *shot.result.lock().expect("result") = Some(Err(format!(
                     "no frames after {} app frames: {why}",
                     self.drawn
                 )));
             }
-            if self.result.lock().expect("result").is_some() {
+            if shot.result.lock().expect("result").is_some() {
                 ctx.send_viewport_cmd(egui::ViewportCommand::Close);
-            } else if !self.requested && self.app.probe.frame >= self.frames {
+            } else if !self.requested && self.app.probe.frame >= shot.frames {
                 self.requested = true;
-                let (path, result) = (self.path.clone(), self.result.clone());
+                let (path, result) = (shot.path.clone(), shot.result.clone());
                 let repaint = ctx.clone();
                 ctx.request_screenshot(move |image| {
                     *result.lock().expect("result") = Some(save(&path, &image));
@@ -135,6 +156,37 @@ mod native {
             .map_err(|e| format!("cannot write {}: {e}", path.display()))
     }
 
+    /// Runs the app in a window until it closes: a new app, or the run a
+    /// lost device handed over; with a screenshot to take when `shot`.
+    fn open_window(args: &Args, options: Options, shot: Option<Shot>) -> Result<(), eframe::Error> {
+        let native = eframe::NativeOptions {
+            viewport: egui::ViewportBuilder::default()
+                .with_inner_size(args.size)
+                .with_title("pleat"),
+            wgpu_options: pleat_app::wgpu_options(),
+            ..Default::default()
+        };
+        eframe::run_native(
+            "pleat",
+            native,
+            Box::new(move |cc| {
+                let app = match recovery::take() {
+                    Some(run) => PleatApp::resume(cc, run),
+                    None => PleatApp::new(cc, options),
+                };
+                Ok(match shot {
+                    Some(shot) => Box::new(Shooter {
+                        app,
+                        shot,
+                        requested: false,
+                        drawn: 0,
+                    }),
+                    None => Box::new(app),
+                })
+            }),
+        )
+    }
+
     pub fn main() -> ExitCode {
         let args = Args::parse();
         let options = match options(&args) {
@@ -144,39 +196,24 @@ mod native {
                 return ExitCode::from(2);
             }
         };
-        let native = eframe::NativeOptions {
-            viewport: egui::ViewportBuilder::default()
-                .with_inner_size(args.size)
-                .with_title("pleat"),
-            wgpu_options: pleat_app::wgpu_options(),
-            ..Default::default()
-        };
         let result = Arc::new(Mutex::new(None));
         let state = Arc::new(Mutex::new(String::new()));
-        let (screenshot, frames) = (args.screenshot.clone(), args.frames);
-        let (shot_result, shot_state) = (result.clone(), state.clone());
-        let run = eframe::run_native(
-            "pleat",
-            native,
-            Box::new(move |cc| {
-                let app = PleatApp::new(cc, options);
-                Ok(match screenshot {
-                    Some(path) => Box::new(Shooter {
-                        app,
-                        frames,
-                        path,
-                        requested: false,
-                        drawn: 0,
-                        result: shot_result,
-                        state: shot_state,
-                    }),
-                    None => Box::new(app),
-                })
-            }),
-        );
-        if let Err(e) = run {
-            eprintln!("error: the window could not open: {e}");
-            return ExitCode::from(2);
+        // A lost device closes the window; a new one resumes the run.
+        loop {
+            let shot = args.screenshot.clone().map(|path| Shot {
+                frames: args.frames,
+                path,
+                lose_at: args.lose_device_at,
+                result: result.clone(),
+                state: state.clone(),
+            });
+            if let Err(e) = open_window(&args, options.clone(), shot) {
+                eprintln!("error: the window could not open: {e}");
+                return ExitCode::from(2);
+            }
+            if !recovery::is_pending() {
+                break;
+            }
         }
         if args.screenshot.is_some() {
             println!("{}", state.lock().expect("state"));

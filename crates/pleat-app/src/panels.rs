@@ -14,7 +14,8 @@ impl PleatApp {
     /// Draws the side panel's contents; changes the app or queues commands.
     pub(crate) fn side_panel(&mut self, ui: &mut egui::Ui) {
         let app = self;
-        egui::ScrollArea::vertical().show(ui, |ui| {
+        // Both ways: a long label on a narrow panel scrolls, never cut off.
+        egui::ScrollArea::both().show(ui, |ui| {
             ui.heading("pleat");
             scene_menus(ui, app);
             ui.separator();
@@ -51,7 +52,7 @@ fn scene_menus(ui: &mut egui::Ui, app: &mut PleatApp) {
     let current = app.demo.map_or("(dropped file)", |d| d.title);
     egui::ComboBox::from_label("demo")
         .selected_text(current)
-        .width(220.0)
+        .width(180.0)
         .show_ui(ui, |ui| {
             for demo in DEMOS {
                 if ui
@@ -68,7 +69,7 @@ fn scene_menus(ui: &mut egui::Ui, app: &mut PleatApp) {
             .map_or("(scene's own)".to_string(), |p| p.label());
         egui::ComboBox::from_label("pattern")
             .selected_text(label)
-            .width(220.0)
+            .width(180.0)
             .show_ui(ui, |ui| {
                 for choice in pattern_choices() {
                     if ui
@@ -195,9 +196,11 @@ fn format_value(v: f64) -> String {
 
 fn statistics(ui: &mut egui::Ui, app: &mut PleatApp) {
     let probe = &app.probe;
+    // Two short lines: a narrow panel shows them whole.
+    ui.label(format!("drawn {:.0} fps, frame {}", probe.fps, probe.frame));
     ui.label(format!(
-        "drawn {:.0} fps; simulated {:.1} steps/s ({:.2} x real time), frame {}",
-        probe.fps, probe.steps_per_second, probe.sim_speed, probe.frame
+        "simulated {:.1} steps/s ({:.2} x real time)",
+        probe.steps_per_second, probe.sim_speed
     ));
     let Some(session) = &app.session else { return };
     ui.label(format!(

@@ -1,7 +1,9 @@
 //! What differs between the native window and the web page: where dropped
 //! files' bytes come from (a path, or an asynchronous browser read), where
-//! exports go (a file, or a download), and how tests reach the app (the
-//! command line, or `window.pleatState` and `pleat_set` on the page).
+//! exports go (a file, or a download), how tests reach the app (the
+//! command line, or `window.pleatState`, `pleat_set` and
+//! `pleat_lose_device` on the page), and how the app starts again after
+//! its device was lost (a new window, or a new start on the page's canvas).
 
 use crate::probe::Probe;
 use eframe::egui;
@@ -47,16 +49,47 @@ mod native {
 
     /// Natively the probe is printed on exit by `main`.
     pub fn publish(_probe: &Probe) {}
+
+    /// Natively a test loses the device with `--lose-device-at`.
+    pub fn take_lose_request() -> bool {
+        false
+    }
+
+    /// Closes the window: `main` opens a new one, which resumes the run
+    /// handed over ([`crate::recovery`]).
+    pub fn restart(ctx: &egui::Context) {
+        ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+    }
 }
 
 #[cfg(target_arch = "wasm32")]
 mod web {
     use super::*;
-    use std::cell::RefCell;
+    use std::cell::{Cell, RefCell};
     use wasm_bindgen::prelude::*;
 
     thread_local! {
         static COMMANDS: RefCell<Vec<(String, f64)>> = const { RefCell::new(Vec::new()) };
+        static LOSE_DEVICE: Cell<bool> = const { Cell::new(false) };
+    }
+
+    /// Loses the app's WebGPU device (`GPUDevice.destroy()`) at the next
+    /// frame, as a driver reset or the browser would: the page's hook for
+    /// tests of the recovery.
+    #[wasm_bindgen]
+    pub fn pleat_lose_device() {
+        LOSE_DEVICE.with(|l| l.set(true));
+    }
+
+    /// Whether the page asked to lose the device since the last frame.
+    pub fn take_lose_request() -> bool {
+        LOSE_DEVICE.with(|l| l.replace(false))
+    }
+
+    /// Starts the app again on the page's canvas (after the current
+    /// frame), which makes a new device and resumes the run handed over.
+    pub fn restart(_ctx: &egui::Context) {
+        crate::start_on_page();
     }
 
     /// Sets the parameter `name` (as on the panels) from JavaScript: the

@@ -11,8 +11,10 @@ use std::collections::VecDeque;
 /// Weight of the newest frame in the frame-rate average.
 const FPS_SMOOTHING: f32 = 0.05;
 
-/// Wall time (s) over which the simulation's rate is measured.
-const RATE_WINDOW: f64 = 4.0;
+/// Wall time (s) over which the simulation's rate is measured: long
+/// enough for a rate of a step or two a second (software WebGPU) to be
+/// counted within 10 %.
+const RATE_WINDOW: f64 = 10.0;
 
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct Probe {
@@ -22,6 +24,8 @@ pub struct Probe {
     pub frame: u64,
     /// Frames drawn per second (smoothed).
     pub fps: f32,
+    /// Frames drawn since the app started.
+    pub drawn: u64,
     /// Simulation steps per wall second over the last few seconds: the
     /// frames the simulation advanced, however fast the app draws.
     pub steps_per_second: f32,
@@ -50,6 +54,15 @@ pub struct Probe {
     /// Where (CSS pixels, window points natively) a point of the cloth is drawn.
     pub cloth_point: Option<[f32; 2]>,
     pub last_error: Option<String>,
+    /// The window's size (points: CSS pixels on a page).
+    pub screen: [f32; 2],
+    /// Where the controls are (min x, min y, max x, max y, in points): a
+    /// panel on the left, or a sheet at the bottom of a narrow window;
+    /// `None` while hidden.
+    pub controls: Option<[f32; 4]>,
+    /// When the GPU device was lost and how the run recovered (a new
+    /// device, or the CPU), until dismissed.
+    pub device_lost: Option<String>,
     /// Wall time since the app started (s), summed from the frames drawn.
     #[serde(skip)]
     clock: f64,
@@ -65,6 +78,7 @@ pub struct Probe {
 impl Probe {
     /// Counts one app frame that took `dt` seconds.
     pub fn tick(&mut self, dt: f32) {
+        self.drawn += 1;
         if dt > 0.0 {
             let fps = 1.0 / dt;
             self.fps = if self.fps == 0.0 {

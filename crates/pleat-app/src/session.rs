@@ -2,7 +2,13 @@
 //! simulation on the CPU or the GPU backend, the fold's progress, and the
 //! changes that wait until the GPU's state has come back (in a browser the
 //! state can only be read between frames, so nothing here ever blocks).
+//! The state last read back from the GPU is kept: when the device is lost,
+//! the simulation is built again on a new one and goes on from there
+//! ([`Session::recover`]).
 
+use glam::Vec3;
+use pleat::collide::RigidBody;
+use pleat::constraint::Grab;
 use pleat::scene::{InMemory, Scene, SceneErrors};
 use pleat::{Backend, CpuBackend, Model, Simulation, SolverSettings, World};
 use pleat_gpu::{GpuBackend, GpuContext};
@@ -44,6 +50,64 @@ pub struct Session {
     pub fold_speed: f32,
     pending: Option<Pending>,
     gpu: Option<GpuContext>,
+    /// The last finite state read back from the GPU backend.
+    last_read: Option<State>,
+}
+
+/// What a rebuilt simulation goes on from: the particles, the clock, the
+/// grab, the dynamic colliders and the fold's progress.
+#[derive(Clone, Debug)]
+struct State {
+    x: Vec<Vec3>,
+    x_prev: Vec<Vec3>,
+    v: Vec<Vec3>,
+    time: f32,
+    grab: Option<Grab>,
+    bodies: Vec<Option<RigidBody>>,
+    fold_progress: f32,
+}
+
+impl State {
+    /// The state `sim` holds on the CPU (as last synced).
+    fn of(sim: &Simulation) -> Self {
+        let p = &sim.particles;
+        State {
+            x: p.x.clone(),
+            x_prev: p.x_prev.clone(),
+            v: p.v.clone(),
+            time: sim.world.time,
+            grab: sim.grabbed(),
+            bodies: sim.world.colliders.iter().map(|c| c.body.clone()).collect(),
+            fold_progress: sim.fold_progress(),
+        }
+    }
+
+    /// Puts the state into `sim` (built from the same scene, or one
+    /// edited on the panels) and hands it to its backend; a model with
+    /// other particles starts anew.
+    fn restore(&self, sim: &mut Simulation) {
+        sim.fold_ramp = None;
+        if sim.particles.len() != self.x.len() {
+            return;
+        }
+        let p = &mut sim.particles;
+        p.x.clone_from(&self.x);
+        p.x_prev.clone_from(&self.x_prev);
+        p.v.clone_from(&self.v);
+        sim.world.time = self.time;
+        sim.grab(self.grab);
+        for (collider, body) in sim.world.colliders.iter_mut().zip(&self.bodies) {
+            collider.body.clone_from(body);
+        }
+        sim.set_fold_progress(self.fold_progress);
+        sim.upload();
+    }
+
+    fn is_finite(&self) -> bool {
+        [&self.x, &self.x_prev, &self.v]
+            .iter()
+            .all(|v| v.iter().all(|p| p.is_finite()))
+    }
 }
 
 impl Session {
@@ -75,6 +139,7 @@ impl Session {
             fold_speed,
             pending: None,
             gpu,
+            last_read: None,
         })
     }
 
@@ -118,6 +183,7 @@ impl Session {
         if !self.sim.try_sync() {
             return Ok(false);
         }
+        self.keep_state();
         match self.pending.take() {
             None => Ok(false),
             Some(Pending::Backend(choice)) => {
@@ -128,8 +194,25 @@ impl Session {
         }
     }
 
+    /// Keeps the state just read back from the GPU (if finite: a read
+    /// that failed as the device went leaves NaN).
+    fn keep_state(&mut self) {
+        if self.sim.backend_name() == "gpu" {
+            let state = State::of(&self.sim);
+            if state.is_finite() {
+                self.last_read = Some(state);
+            }
+        }
+    }
+
     /// Rebuilds from the edited scene, keeping the state (same particles).
     fn rebuild(&mut self) -> Result<(), SceneErrors> {
+        let state = State::of(&self.sim);
+        self.rebuild_from(&state)
+    }
+
+    /// Builds the simulation again (from the edited scene) and puts `state` in it.
+    fn rebuild_from(&mut self, state: &State) -> Result<(), SceneErrors> {
         let (mut sim, used, notice) = build(
             &self.scene,
             &self.files,
@@ -137,30 +220,36 @@ impl Session {
             self.backend,
             self.gpu.as_ref(),
         )?;
-        sim.fold_ramp = None;
-        if sim.particles.len() == self.sim.particles.len() {
-            // The state goes on; masses are the rebuilt model's.
-            let (new, old) = (&mut sim.particles, &self.sim.particles);
-            new.x.clone_from(&old.x);
-            new.x_prev.clone_from(&old.x_prev);
-            new.v.clone_from(&old.v);
-            sim.world.time = self.sim.world.time;
-            sim.grab(self.sim.grabbed());
-            for (new, old) in sim
-                .world
-                .colliders
-                .iter_mut()
-                .zip(&self.sim.world.colliders)
-            {
-                new.body.clone_from(&old.body);
-            }
-            sim.set_fold_progress(self.sim.fold_progress());
-            sim.upload();
-        }
+        state.restore(&mut sim);
         self.sim = sim;
         self.backend = used;
         self.notice = notice;
         Ok(())
+    }
+
+    /// After the device was lost: builds the simulation again on `gpu` (a
+    /// new device; the CPU where there is none or it has no compute
+    /// shaders) from the last state read back, never reading the lost
+    /// device. A change that waited for the state is dropped. Says
+    /// where the run goes on.
+    pub fn recover(&mut self, gpu: Option<GpuContext>) -> Result<String, SceneErrors> {
+        self.gpu = gpu;
+        self.pending = None;
+        // On the CPU the state never left it; nothing read back yet: the
+        // scene's start.
+        let state = match (self.backend, self.last_read.take()) {
+            (BackendChoice::Gpu, Some(state)) => state,
+            _ => State::of(&self.sim),
+        };
+        self.rebuild_from(&state)?;
+        let on = match self.backend {
+            BackendChoice::Gpu => "a new GPU device",
+            BackendChoice::Cpu => "the CPU",
+        };
+        Ok(format!(
+            "the simulation continues on {on} from t = {:.2} s, the state last read back",
+            state.time
+        ))
     }
 
     /// Moves the (synced) simulation to `choice`, or says why it stays on the CPU.
@@ -280,6 +369,65 @@ mod tests {
         s.poll().unwrap();
         assert_eq!(s.backend, BackendChoice::Cpu);
         assert!(s.notice.as_deref().unwrap().contains("CPU"));
+    }
+
+    /// Polls until a read of the state has come back (a GPU session).
+    fn read_back(s: &mut Session) {
+        for _ in 0..100_000 {
+            s.poll().unwrap();
+            if s.sim.try_sync() {
+                return;
+            }
+            std::thread::yield_now();
+        }
+        panic!("the state never came back");
+    }
+
+    #[test]
+    fn a_lost_device_is_heard_and_the_run_goes_on_from_the_last_state_read_back() {
+        use crate::demos::{shipped_files, Demo};
+        use crate::device::DeviceWatch;
+        let gpu = GpuContext::new().expect("a GPU adapter (in CI: Mesa lavapipe)");
+        let watch = DeviceWatch::attach(&gpu.device);
+        let (scene, file) = Demo::find("wind").unwrap().scene().unwrap();
+        let mut s =
+            Session::new(scene, file, shipped_files(), BackendChoice::Gpu, Some(gpu)).unwrap();
+        assert_eq!(s.backend, BackendChoice::Gpu);
+        for _ in 0..10 {
+            s.step(1.0 / 60.0);
+            read_back(&mut s);
+        }
+        let kept = s.sim.particles.x.clone();
+        let time = s.sim.world.time;
+        watch.destroy();
+        // The steps and reads after the loss fail quietly (no panic).
+        s.step(1.0 / 60.0);
+        for _ in 0..1000 {
+            let _ = s.poll();
+            if watch.lost().is_some() {
+                break;
+            }
+            std::thread::yield_now();
+        }
+        assert!(
+            watch.lost().unwrap().starts_with("destroyed"),
+            "{:?}",
+            watch.lost()
+        );
+        let again = GpuContext::new().unwrap();
+        let said = s.recover(Some(again)).unwrap();
+        assert!(said.contains("a new GPU device"), "{said}");
+        assert_eq!(s.backend, BackendChoice::Gpu);
+        assert_eq!(s.sim.particles.x, kept);
+        assert_eq!(s.sim.world.time, time);
+        for _ in 0..10 {
+            s.step(1.0 / 60.0);
+            read_back(&mut s);
+        }
+        let x = &s.sim.particles.x;
+        assert!(x.iter().all(|p| p.is_finite()));
+        assert_ne!(*x, kept, "the run goes on");
+        assert!(!s.sim.stability.is_unstable());
     }
 
     #[test]

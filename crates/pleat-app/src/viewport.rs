@@ -47,6 +47,17 @@ impl Viewport {
         }
     }
 
+    /// The viewport for a new device (after a loss): the same camera and
+    /// view, the renderer built anew.
+    pub fn on_new_device(&self) -> Self {
+        Viewport {
+            framed: self.framed,
+            view: self.view,
+            orbit: self.orbit,
+            ..Viewport::new()
+        }
+    }
+
     /// Whether a particle is held by the mouse.
     pub fn is_grabbing(&self) -> bool {
         self.grabbed.is_some()

@@ -43,6 +43,44 @@ fn the_window_runs_a_demo_and_takes_a_screenshot() {
     assert_shows_something(&picture, &png);
 }
 
+#[test]
+fn a_lost_device_reopens_the_window_and_the_run_goes_on() {
+    let dir = std::env::temp_dir().join(format!("pleat-app-lost-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("wind.png");
+    let out = run_in_xvfb(&[
+        "--demo",
+        "wind",
+        "--lose-device-at",
+        "8",
+        "--frames",
+        "20",
+        "--size",
+        "960x600",
+        "--screenshot",
+        png.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let state: serde_json::Value = serde_json::from_slice(&out.stdout).expect("the state as JSON");
+    let lost = state["device_lost"].as_str().unwrap_or_default();
+    assert!(
+        lost.starts_with("the GPU device was lost at frame 8 (destroyed); recovered: the simulation continues on a new GPU device from t = "),
+        "{state}"
+    );
+    assert!(state["frame"].as_u64().unwrap() >= 20, "{state}");
+    assert_eq!(state["backend"], "gpu", "{state}");
+    assert!(state["last_error"].is_null(), "{state}");
+    let centroid = state["centroid"].as_array().unwrap();
+    assert!(
+        centroid
+            .iter()
+            .all(|c| c.as_f64().is_some_and(f64::is_finite)),
+        "{state}"
+    );
+    assert_shows_something(&image::open(&png).unwrap().to_rgba8(), &png);
+}
+
 /// Many colours and a spread of brightness: not a blank or one-colour window.
 fn assert_shows_something(picture: &image::RgbaImage, path: &Path) {
     let mut colours = std::collections::HashSet::new();

@@ -1,4 +1,5 @@
-// Colliders, the ground and the sky: matte Blinn-Phong, a mirror that
+// Colliders, the ground and the sky: matte Blinn-Phong, checked in the
+// collider's own frame (so a turning body is seen to turn), a mirror that
 // reflects the environment cube map, a checkered ground that receives the
 // shadows, and the cube map itself behind everything.
 
@@ -6,8 +7,10 @@ struct MeshIn {
     @location(0) position: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) color: vec4<f32>,
-    // 0 matte, 1 mirror, 2 ground.
-    @location(3) kind: u32,
+    // The point in the collider's frame, in checks.
+    @location(3) body: vec3<f32>,
+    // 0 matte, 1 mirror, 2 ground, 3 patterned.
+    @location(4) kind: u32,
 };
 
 struct MeshOut {
@@ -16,10 +19,12 @@ struct MeshOut {
     @location(1) normal: vec3<f32>,
     @location(2) color: vec3<f32>,
     @location(3) @interpolate(flat) kind: u32,
+    @location(4) body: vec3<f32>,
 };
 
 const KIND_MIRROR: u32 = 1u;
 const KIND_GROUND: u32 = 2u;
+const KIND_PATTERNED: u32 = 3u;
 
 @vertex
 fn vs_main(in: MeshIn) -> MeshOut {
@@ -29,6 +34,7 @@ fn vs_main(in: MeshIn) -> MeshOut {
     out.normal = in.normal;
     out.color = in.color.rgb;
     out.kind = in.kind;
+    out.body = in.body;
     return out;
 }
 
@@ -54,6 +60,11 @@ fn fs_main(in: MeshOut, @builtin(front_facing) front: bool) -> @location(0) vec4
         let cell = floor(in.world.xz * 4.0);
         let checker = select(0.62, 0.7, (i32(cell.x) + i32(cell.y)) % 2 == 0);
         color = blinn_phong(in.color * checker, n, in.world);
+    } else if (in.kind == KIND_PATTERNED) {
+        // 3D checks in the body frame: light and dark cells alternate.
+        let cell = vec3<i32>(floor(in.body));
+        let dark = ((cell.x + cell.y + cell.z) & 1) == 1;
+        color = blinn_phong(in.color * select(1.0, 0.55, dark), n, in.world);
     } else {
         color = blinn_phong(in.color, n, in.world);
     }

@@ -151,9 +151,11 @@ pub struct MeshVertex {
     pub normal: [f32; 3],
     /// Linear RGB, alpha 1.
     pub color: [f32; 4],
-    /// 0 matte, 1 mirror, 2 ground (see meshes.wgsl).
+    /// Where the point is in the collider's own frame, in pattern cells
+    /// (a patterned collider's checks turn and move with it).
+    pub body: [f32; 3],
+    /// 0 matte, 1 mirror, 2 ground, 3 patterned (see meshes.wgsl).
     pub kind: u32,
-    pub pad: u32,
 }
 
 /// Surface of a mesh vertex.
@@ -162,19 +164,34 @@ pub enum Surface {
     Matte = 0,
     Mirror = 1,
     Ground = 2,
+    /// Matte, with checks in the body frame: turning and shape read at a glance.
+    Patterned = 3,
 }
+
+/// Checks across a collider's longest side.
+const PATTERN_CELLS: f32 = 6.0;
 
 /// A collider as triangles at time zero, moved each frame by its pose.
 pub struct ColliderMesh {
     pub positions: Vec<Vec3>,
     pub normals: Vec<Vec3>,
+    /// The body frame's pattern: time-zero positions to checks (the
+    /// shape's own axes, its centre at the origin, a check a unit).
+    pattern: Affine3A,
 }
 
 impl ColliderMesh {
     /// Triangles (three vertices each) of `shape`; `None` for a plane,
     /// which is drawn as the ground.
     pub fn of(shape: &Shape) -> Option<ColliderMesh> {
-        Some(match shape {
+        let axes = match shape {
+            Shape::Box { rotation, .. } => *rotation,
+            Shape::Capsule { a, b, .. } => {
+                Quat::from_rotation_arc(Vec3::Y, (*b - *a).normalize_or(Vec3::Y))
+            }
+            _ => Quat::IDENTITY,
+        };
+        let mesh = match shape {
             Shape::Plane { .. } => return None,
             Shape::Sphere { center, radius } => {
                 capsule(*center, *center, *radius, Quat::IDENTITY, SMOOTH)
@@ -196,7 +213,21 @@ impl ColliderMesh {
             } => cuboid(*center, *half_extents, *rotation),
             Shape::Mesh(mesh) => smooth(mesh.triangles().collect()),
             Shape::Sdf(grid) => smooth(grid.surface().to_vec()),
-        })
+        };
+        Some(mesh.with_pattern(axes))
+    }
+
+    /// The mesh with checks along `axes`, [`PATTERN_CELLS`] across its
+    /// longest side.
+    fn with_pattern(mut self, axes: Quat) -> Self {
+        let turn = Affine3A::from_quat(axes.inverse());
+        if let Some(b) = Bounds::of(self.positions.iter().map(|p| turn.transform_point3(*p))) {
+            let side = (b.max - b.min).max_element().max(1e-6);
+            let to_cells = Affine3A::from_scale(Vec3::splat(PATTERN_CELLS / side))
+                * Affine3A::from_translation(-(b.min + b.max) * 0.5);
+            self.pattern = to_cells * turn;
+        }
+        self
     }
 
     /// A small ball of `radius` at the origin, to mark a pin.
@@ -218,8 +249,8 @@ impl ColliderMesh {
                 position: pose.transform_point3(*p).to_array(),
                 normal: pose.transform_vector3(*n).normalize_or_zero().to_array(),
                 color: color.extend(1.0).to_array(),
+                body: self.pattern.transform_point3(*p).to_array(),
                 kind: surface as u32,
-                pad: 0,
             })
             .collect()
     }
@@ -257,6 +288,7 @@ fn capsule(
     let mut mesh = ColliderMesh {
         positions: Vec::new(),
         normals: Vec::new(),
+        pattern: Affine3A::IDENTITY,
     };
     for w in rings.windows(2) {
         for s in 0..segments {
@@ -281,6 +313,7 @@ fn cuboid(center: Vec3, half: Vec3, rotation: Quat) -> ColliderMesh {
     let mut mesh = ColliderMesh {
         positions: Vec::new(),
         normals: Vec::new(),
+        pattern: Affine3A::IDENTITY,
     };
     for axis in 0..3 {
         for sign in [-1.0f32, 1.0] {
@@ -324,7 +357,11 @@ fn smooth(triangles: Vec<[Vec3; 3]>) -> ColliderMesh {
         .iter()
         .map(|p| sums[&key(*p)].normalize_or(Vec3::Y))
         .collect();
-    ColliderMesh { positions, normals }
+    ColliderMesh {
+        positions,
+        normals,
+        pattern: Affine3A::IDENTITY,
+    }
 }
 
 /// Colour of the `i`-th collider (sRGB): a few calm colours in turn.
@@ -358,8 +395,8 @@ pub fn ground(point: Vec3, normal: Vec3, center: Vec3, half: f32) -> Vec<MeshVer
         position: p.to_array(),
         normal: n.to_array(),
         color: [0.8, 0.78, 0.74, 1.0],
+        body: [0.0; 3],
         kind: Surface::Ground as u32,
-        pad: 0,
     })
     .to_vec()
 }

@@ -641,7 +641,8 @@ mod tests {
 
     #[test]
     fn vertex_layouts_match_the_shaders() {
-        assert_eq!(std::mem::size_of::<MeshVertex>(), 48);
+        // Position, normal, colour, body-frame point, kind: 12 + 12 + 16 + 12 + 4.
+        assert_eq!(std::mem::size_of::<MeshVertex>(), 56);
         assert_eq!(std::mem::size_of::<Line>(), 24);
     }
 }

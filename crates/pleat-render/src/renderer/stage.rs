@@ -90,7 +90,7 @@ impl Stage {
         let surface = if mirror {
             Surface::Mirror
         } else {
-            Surface::Matte
+            Surface::Patterned
         };
         let placed = world
             .colliders
