@@ -1,6 +1,6 @@
 """Python's overhead, for BENCHMARKS.md: `sim.step()` of the bench cloth
 called from Python against `pleat bench`'s ms/frame for the same cloth
-(interleaved runs, medians), and the cost of reading `positions` of a
+(interleaved runs; medians and fastest rounds), and the cost of reading `positions` of a
 large cloth (a view on the CPU backend: no copy per read).
 
     python step_overhead.py --pleat target/release/pleat [--n 128] [--rounds 5]
@@ -63,7 +63,7 @@ def main():
     print(f"{args.n} x {args.n}, {args.rounds} rounds of {args.frames} frames, interleaved")
     print(f"  pleat bench: median {c:.3f} ms/frame  (rounds {', '.join(f'{x:.3f}' for x in cli)})")
     print(f"  sim.step():  median {p:.3f} ms/frame  (rounds {', '.join(f'{x:.3f}' for x in py)})")
-    print(f"  Python / command: {p / c:.3f}")
+    print(f"  Python / command: {p / c:.3f} (medians), {min(py) / min(cli):.3f} (fastest rounds)")
 
     big = pleat.Simulation(pleat.Scene.hanging_cloth(args.large))
     big.step()
