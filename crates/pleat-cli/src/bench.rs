@@ -14,35 +14,38 @@ use std::time::Instant;
 pub struct BenchArgs {
     /// cpu or gpu.
     #[arg(long, default_value = "cpu")]
-    backend: String,
+    pub backend: String,
     /// Cloth sizes N (N x N particles), comma separated.
     #[arg(long, value_delimiter = ',', default_values_t = [64u32, 128, 256])]
-    sizes: Vec<u32>,
-    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u32).range(1..=1000))]
-    substeps: u32,
+    pub sizes: Vec<u32>,
+    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u32).range(SUBSTEPS))]
+    pub substeps: u32,
     /// Solve self-collision too.
     #[arg(long)]
-    self_collision: bool,
+    pub self_collision: bool,
     /// Timed frames per size.
     #[arg(long, default_value_t = 60, value_parser = clap::value_parser!(u32).range(1..))]
-    frames: u32,
+    pub frames: u32,
     /// Frames simulated before timing starts.
     #[arg(long, default_value_t = 30)]
-    warmup: u32,
+    pub warmup: u32,
     /// Long-range attachments from the pins.
     #[arg(long)]
-    tethers: bool,
+    pub tethers: bool,
     /// Worker threads (default: all cores).
     #[arg(long)]
-    threads: Option<usize>,
+    pub threads: Option<usize>,
     /// One JSON object a line instead of a table.
     #[arg(long)]
-    json: bool,
+    pub json: bool,
 }
+
+/// The substeps a bench may ask for.
+const SUBSTEPS: std::ops::RangeInclusive<i64> = 1..=1000;
 
 /// One line of `pleat bench --json`.
 #[derive(Serialize)]
-struct BenchLine {
+pub struct BenchLine {
     backend: &'static str,
     /// The device that ran it (a GPU adapter's name).
     device: String,
@@ -61,10 +64,7 @@ struct BenchLine {
 }
 
 pub fn bench(args: &BenchArgs) -> Result<ExitCode, String> {
-    check_backend(&args.backend)?;
-    if let Some(&n) = args.sizes.iter().find(|&&n| !(2..=4096).contains(&n)) {
-        return Err(format!("--sizes: {n} is out of range: sizes are 2 to 4096"));
-    }
+    validate(args)?;
     if !args.json {
         crate::print_line(format_args!(
             "{:>6} {:>10} {:>9} {:>12} {:>10} {:>12}",
@@ -72,7 +72,7 @@ pub fn bench(args: &BenchArgs) -> Result<ExitCode, String> {
         ));
     }
     for &n in &args.sizes {
-        let line = with_threads(args.threads, || measure(args, n))??;
+        let line = measure(args, n)?;
         if args.json {
             crate::print_line(format_args!(
                 "{}",
@@ -93,7 +93,34 @@ pub fn bench(args: &BenchArgs) -> Result<ExitCode, String> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn measure(args: &BenchArgs, n: u32) -> Result<BenchLine, String> {
+/// Refuses what the command line's parser would (for callers that build
+/// [`BenchArgs`] themselves): an unknown backend, sizes outside 2 to 4096,
+/// substeps outside 1 to 1000, no timed frames.
+pub fn validate(args: &BenchArgs) -> Result<(), String> {
+    check_backend(&args.backend)?;
+    if let Some(&n) = args.sizes.iter().find(|&&n| !(2..=4096).contains(&n)) {
+        return Err(format!("--sizes: {n} is out of range: sizes are 2 to 4096"));
+    }
+    if !SUBSTEPS.contains(&i64::from(args.substeps)) {
+        return Err(format!(
+            "--substeps: {} is out of range: substeps are 1 to 1000",
+            args.substeps
+        ));
+    }
+    if args.frames == 0 {
+        return Err("--frames: at least one frame is timed".into());
+    }
+    Ok(())
+}
+
+/// Times the `n` x `n` hanging cloth as `args` ask, on the pool of
+/// `args.threads` threads.
+pub fn measure(args: &BenchArgs, n: u32) -> Result<BenchLine, String> {
+    with_threads(args.threads, || measure_here(args, n))?
+}
+
+/// [`measure`] on the current rayon pool.
+fn measure_here(args: &BenchArgs, n: u32) -> Result<BenchLine, String> {
     let mut scene = hanging_cloth(n, args.substeps, args.tethers);
     scene.solver.self_collision.enabled = args.self_collision;
     let mut sim = build_on(&scene, (Path::new("."), &scene.name), &args.backend)?;

@@ -7,23 +7,38 @@
 use crate::output::OutputArgs;
 use crate::render::{PictureArgs, Pictures};
 use crate::report::Report;
-use crate::run::{finish, rayon_threads, run_frames, simulate};
+use crate::run::{print_summary, rayon_threads, run_frames, simulate, write_outputs};
 use crate::{backend_for, check_backend, with_threads};
 use pleat::folding::{
     folded_state_fold, paper_model, paper_simulation_on, paper_solver_settings, FoldRamp,
 };
 use pleat::origami::{builtin, load_pattern, CreasePattern, Sheet, SheetOptions, BUILTIN_NAMES};
+use pleat::Simulation;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 /// Frames the paper is left to settle at the final progress.
 const SETTLE_FRAMES: u32 = 60;
 
-/// Frames per second of the fold.
-const FPS: f32 = 60.0;
+/// Seconds per frame of the fold (60 frames per second).
+const FRAME_DT: f32 = 1.0 / 60.0;
 
 #[derive(clap::Args)]
 pub struct FoldArgs {
+    #[command(flatten)]
+    pub paper: PaperArgs,
+    /// Draw the fold instead of writing meshes: PNG pictures and anim.gif
+    /// in --out (default out/<pattern name>).
+    #[arg(long)]
+    pub render: bool,
+    #[command(flatten)]
+    pub picture: PictureArgs,
+}
+
+/// What to fold and where the results go: `pleat fold`'s options less the
+/// pictures'.
+#[derive(clap::Args)]
+pub struct PaperArgs {
     /// A .cp, .fold or .svg file, or a built-in pattern (miura-ori,
     /// waterbomb-base, ...).
     pub pattern: String,
@@ -43,15 +58,31 @@ pub struct FoldArgs {
     pub fold_out: Option<PathBuf>,
     #[command(flatten)]
     pub output: OutputArgs,
-    /// Draw the fold instead of writing meshes: PNG pictures and anim.gif
-    /// in --out (default out/<pattern name>).
-    #[arg(long)]
-    pub render: bool,
-    #[command(flatten)]
-    pub picture: PictureArgs,
 }
 
-pub fn fold(args: &FoldArgs) -> Result<ExitCode, String> {
+/// A crease pattern made into paper, ready to fold.
+pub struct Paper {
+    /// The paper on its backend, its fold ramp set.
+    pub sim: Simulation,
+    /// The pattern's name, for reports.
+    pub name: String,
+    /// `name: V vertices, T triangles, C creases`.
+    pub summary: String,
+}
+
+/// What a fold without pictures measured and wrote.
+pub struct Folded {
+    /// The folded paper.
+    pub paper: Paper,
+    /// report.json's contents.
+    pub report: Report,
+    /// The files written: report.json (with `--out`) and the FOLD file
+    /// (with `--fold-out`).
+    pub written: Vec<PathBuf>,
+}
+
+/// Checks `args` and builds the paper of its pattern on its backend.
+pub fn paper(args: &PaperArgs) -> Result<Paper, String> {
     if !(0.0..=1.0).contains(&args.progress) {
         return Err(format!(
             "--progress must be between 0 and 1, got {}",
@@ -68,44 +99,91 @@ pub fn fold(args: &FoldArgs) -> Result<ExitCode, String> {
     };
     let (model, world) = paper_model(&sheet);
     let backend = backend_for(&model, &world, &paper_solver_settings(), &args.backend)?;
-    let mut sim = paper_simulation_on((model, world), backend, ramp);
-    let frame_dt = 1.0 / FPS;
-    let frames = (args.frames + SETTLE_FRAMES, frame_dt);
-    let threads = rayon_threads(args.output.threads)?;
-    let sheet_line = format!(
+    let summary = format!(
         "{}: {} vertices, {} triangles, {} creases",
         name,
         sheet.positions.len(),
         sheet.triangles.len(),
         sheet.crease_count()
     );
+    Ok(Paper {
+        sim: paper_simulation_on((model, world), backend, ramp),
+        name,
+        summary,
+    })
+}
+
+/// Folds as `args` ask, without pictures and without printing: the
+/// meshes and report.json go to `args.output.out`, the folded state to
+/// `args.fold_out`, where given.
+pub fn fold_meshes(args: &PaperArgs) -> Result<Folded, String> {
+    let mut paper = paper(args)?;
+    let threads = rayon_threads(args.output.threads)?;
+    let (frame_times, output) =
+        run_frames(&mut paper.sim, &paper.name, frames(args), &args.output)?;
+    let report = Report::named(&paper.sim, &paper.name, FRAME_DT, &frame_times, threads);
+    let mut written: Vec<PathBuf> = write_outputs(&report, output, &args.output)?
+        .into_iter()
+        .collect();
+    if let Some(path) = &args.fold_out {
+        write_folded_state(&paper.sim, path)?;
+        written.push(path.clone());
+    }
+    Ok(Folded {
+        paper,
+        report,
+        written,
+    })
+}
+
+/// The frames of a fold (the ramp, then the settling) and their length.
+fn frames(args: &PaperArgs) -> (u32, f32) {
+    (args.frames + SETTLE_FRAMES, FRAME_DT)
+}
+
+pub fn fold(args: &FoldArgs) -> Result<ExitCode, String> {
     let report = if args.render {
+        let Paper {
+            mut sim,
+            name,
+            summary,
+        } = paper(&args.paper)?;
+        let threads = rayon_threads(args.paper.output.threads)?;
         let dir = args
+            .paper
             .output
             .out
             .clone()
             .unwrap_or_else(|| Path::new("out").join(&name));
         let settings = args.picture.settings(None, Path::new("."))?;
-        let every = args.output.every;
-        let mut pictures = Pictures::create(&dir, &sim, settings, frame_dt * every as f32)?;
-        let frame_times = with_threads(args.output.threads, || {
-            simulate(&mut sim, &name, frames, every, Some(&mut pictures))
+        let every = args.paper.output.every;
+        let mut pictures = Pictures::create(&dir, &sim, settings, FRAME_DT * every as f32)?;
+        let frame_times = with_threads(args.paper.output.threads, || {
+            simulate(
+                &mut sim,
+                &name,
+                frames(&args.paper),
+                every,
+                Some(&mut pictures),
+            )
         })??;
-        let report = Report::named(&sim, &name, frame_dt, &frame_times, threads);
-        crate::print_line(sheet_line);
+        let report = Report::named(&sim, &name, FRAME_DT, &frame_times, threads);
+        crate::print_line(summary);
         crate::render::finish(&report, &pictures, &dir)?;
+        if let Some(path) = &args.paper.fold_out {
+            write_folded_state(&sim, path)?;
+            crate::print_line(format_args!("wrote {}", path.display()));
+        }
         report
     } else {
-        let (frame_times, output) = run_frames(&mut sim, &name, frames, &args.output)?;
-        let report = Report::named(&sim, &name, frame_dt, &frame_times, threads);
-        crate::print_line(sheet_line);
-        finish(&report, output, &args.output)?;
-        report
+        let folded = fold_meshes(&args.paper)?;
+        crate::print_line(&folded.paper.summary);
+        print_summary(&folded.report);
+        for path in &folded.written {
+            crate::print_line(format_args!("wrote {}", path.display()));
+        }
+        folded.report
     };
-    if let Some(path) = &args.fold_out {
-        write_folded_state(&sim, path)?;
-        crate::print_line(format_args!("wrote {}", path.display()));
-    }
     Ok(if report.nan || report.unstable {
         ExitCode::FAILURE
     } else {
@@ -114,7 +192,7 @@ pub fn fold(args: &FoldArgs) -> Result<ExitCode, String> {
 }
 
 /// Writes the folded paper of `sim` as a FOLD file.
-fn write_folded_state(sim: &pleat::Simulation, path: &Path) -> Result<(), String> {
+pub fn write_folded_state(sim: &Simulation, path: &Path) -> Result<(), String> {
     let fold = sim
         .model
         .cloths

@@ -93,15 +93,35 @@ pub fn run_frames(
 
 /// Prints the report's summary and writes the exports and report.json.
 pub fn finish(report: &Report, output: Option<Output>, args: &OutputArgs) -> Result<(), String> {
+    print_summary(report);
+    if let Some(path) = write_outputs(report, output, args)? {
+        crate::print_line(format_args!("wrote {}", path.display()));
+    }
+    Ok(())
+}
+
+/// Prints the report's summary line, and its fold line where there is paper.
+pub fn print_summary(report: &Report) {
     crate::print_line(format_args!("{}", report.summary_line()));
     if let Some(line) = report.fold_line() {
         crate::print_line(format_args!("{line}"));
     }
-    if let (Some(out), Some(dir)) = (output, &args.out) {
-        out.finish()?;
-        crate::print_line(format_args!("wrote {}", report.write(dir)?.display()));
+}
+
+/// Writes what is left of the exports and report.json, with `--out`;
+/// returns report.json's path.
+pub fn write_outputs(
+    report: &Report,
+    output: Option<Output>,
+    args: &OutputArgs,
+) -> Result<Option<PathBuf>, String> {
+    match (output, &args.out) {
+        (Some(out), Some(dir)) => {
+            out.finish()?;
+            report.write(dir).map(Some)
+        }
+        _ => Ok(None),
     }
-    Ok(())
 }
 
 /// The scene, its name for messages and the folder its relative paths start from.
