@@ -43,8 +43,7 @@ use rayon::prelude::*;
 
 /// The largest shear compliance (m/N) at which the coarse levels hold rest
 /// distances in every direction, the diagonals too: a hundred times the
-/// default's, which stretches a 1 m cloth's diagonals by about 1e-6 under
-/// its own weight. A softer cloth's coarse edges follow its threads alone
+/// default material's 1e-6. A softer cloth's coarse edges follow its threads alone
 /// (paths of stretch edges), leaving it free to shear at every scale.
 pub const HELD_SHEAR_COMPLIANCE: f32 = 1e-4;
 
