@@ -405,6 +405,7 @@ fn compute_context(state: &eframe::egui_wgpu::RenderState) -> Option<GpuContext>
         device: state.device.clone(),
         queue: state.queue.clone(),
         adapter: format!("{name} ({:?})", info.backend),
+        device_type: info.device_type,
     })
 }
 

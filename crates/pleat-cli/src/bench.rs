@@ -61,6 +61,9 @@ pub struct BenchLine {
     tethers: bool,
     /// Time per stage over the timed frames.
     stages_ms: StagesMs,
+    /// Compute dispatches a frame on a GPU (mean over the timed frames);
+    /// null on the CPU.
+    dispatches_per_frame: Option<f64>,
 }
 
 pub fn bench(args: &BenchArgs) -> Result<ExitCode, String> {
@@ -130,12 +133,16 @@ fn measure_here(args: &BenchArgs, n: u32) -> Result<BenchLine, String> {
     }
     sim.finish();
     sim.stages = Default::default();
+    let mut dispatches = Some(0.0);
     let times: Vec<_> = (0..args.frames)
         .map(|_| {
             let start = Instant::now();
             sim.step(dt);
             sim.finish();
-            start.elapsed()
+            let elapsed = start.elapsed();
+            let frame = sim.backend().dispatches_per_frame();
+            dispatches = dispatches.zip(frame).map(|(sum, n)| sum + f64::from(n));
+            elapsed
         })
         .collect();
     sim.sync();
@@ -153,6 +160,7 @@ fn measure_here(args: &BenchArgs, n: u32) -> Result<BenchLine, String> {
         frames: args.frames,
         threads: rayon::current_num_threads(),
         stages_ms: StagesMs::from(&sim.stages, args.frames),
+        dispatches_per_frame: dispatches.map(|sum| sum / f64::from(args.frames)),
         tethers: args.tethers,
     })
 }

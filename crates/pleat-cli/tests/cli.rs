@@ -220,6 +220,7 @@ fn bench_json_lines() {
         assert_eq!(line["n"], n);
         assert_eq!(line["particles"], n * n);
         assert_eq!(line["substeps"], 10);
+        assert!(line["dispatches_per_frame"].is_null(), "none on the CPU");
     }
 }
 
@@ -261,6 +262,9 @@ fn gpu_backend_runs_and_names_its_adapter() {
         line["device"].as_str().is_some_and(|d| !d.is_empty()),
         "{line}"
     );
+    // At least prediction, projection and velocity update in each of 10 substeps.
+    let dispatches = line["dispatches_per_frame"].as_f64().unwrap_or(0.0);
+    assert!(dispatches >= 30.0, "dispatches per frame: {line}");
 }
 
 #[test]

@@ -1,17 +1,6 @@
-// Shared by every kernel, after structs.wgsl: the particle state (group 0)
-// and helpers.
+// Shared by every kernel, after structs.wgsl and the state's bindings
+// (state.wgsl, or a persistent kernel's own): constants and helpers.
 // Positions carry the inverse mass in w (zero for pinned particles).
-
-@group(0) @binding(0) var<storage, read_write> pos: array<vec4<f32>>;
-@group(0) @binding(1) var<storage, read_write> prev: array<vec4<f32>>;
-@group(0) @binding(2) var<storage, read_write> vel: array<vec4<f32>>;
-@group(0) @binding(3) var<uniform> params: Params;
-// The live compliance table (crate::constraint::compliances), four slots a
-// vector; slot 0 is 1.
-@group(0) @binding(4) var<uniform> compliances: array<vec4<f32>, 256>;
-// The slice of its array a dispatch works on (the kernel layout's dynamic
-// uniform; kernels that need none leave it unread).
-@group(1) @binding(4) var<uniform> range: Range;
 
 const WORKGROUP: u32 = 256u;
 const PI: f32 = 3.14159265358979;
@@ -33,13 +22,6 @@ struct Invocation {
 // Flat invocation index of a dispatch that may spread over two dimensions.
 fn flat_index(gid: vec3<u32>, groups: vec3<u32>) -> u32 {
     return gid.x + gid.y * groups.x * WORKGROUP;
-}
-
-// The index in the whole array of this invocation's item of the dispatch's
-// range, or NONE past the range's end.
-fn range_item(gid: vec3<u32>, groups: vec3<u32>) -> u32 {
-    let k = flat_index(gid, groups);
-    return select(NONE, range.first + k, k < range.count);
 }
 
 // Flat index of an invocation's workgroup (a block of a reduction).

@@ -1,77 +1,22 @@
 // Origami hinges, one colour per dispatch, and the tracking of their
-// continuous fold angle after each substep (crate::constraint::hinge). The
-// target is the fold progress (a uniform) times the full angle; driven
-// creases are stiffening springs while the fold is held, flat hinges linear.
+// continuous fold angle after each substep (lib/hinge.wgsl).
 
-@group(1) @binding(0) var<storage, read_write> items: array<Hinge>;
-@group(1) @binding(1) var<storage, read_write> lambda: array<f32>;
-
-const MAX_TARGET_ANGLE: f32 = 178.0 * PI / 180.0;
-const MAX_TRACKED_ANGLE: f32 = 1.25 * PI;
-const STIFFENING_ANGLE: f32 = PI / 2.0;
-
-// A driven crease's stiffening spring (crate::constraint::hinge::stiffened_error):
-// the constraint for the error e in x, its slope in y.
-fn stiffened_error(e: f32) -> vec2<f32> {
-    let s = STIFFENING_ANGLE;
-    let k = 1.0 / (s * s);
-    let a = abs(e);
-    var cs: vec2<f32>;
-    if a <= s {
-        cs = vec2<f32>(a + a * a * a * k / 3.0, 1.0 + a * a * k);
-    } else if a <= 2.0 * s {
-        let r = 2.0 * s - a;
-        cs = vec2<f32>(a + s / 3.0 + (s * s * s - r * r * r) * k / 3.0, 1.0 + r * r * k);
-    } else {
-        cs = vec2<f32>(a + 2.0 * s / 3.0, 1.0);
-    }
-    if e < 0.0 {
-        cs.x = -cs.x;
-    }
-    return cs;
-}
-
-// The branch phi + 2 pi k nearest the tracked angle.
-fn unwrap_angle(tracked: f32, phi: f32) -> f32 {
-    var r = (phi - tracked + PI) % TAU;
-    if r < 0.0 {
-        r += TAU;
-    }
-    return tracked + r - PI;
-}
+@group(1) @binding(0) var<storage, read_write> hinges: array<Hinge>;
+@group(1) @binding(1) var<storage, read_write> hinge_lambda: array<f32>;
 
 @compute @workgroup_size(256)
 fn solve(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let j = range_item(gid, groups);
-    if j == NONE { return; }
-    let h = items[j];
-    let d = dihedral_of(h.v);
-    if !d.ok {
-        return;
+    if j != NONE {
+        solve_hinge(j);
     }
-    let target_angle = clamp(params.progress * h.full_angle, -MAX_TARGET_ANGLE, MAX_TARGET_ANGLE);
-    let error = unwrap_angle(h.angle, d.phi) - target_angle;
-    if h.full_angle == 0.0 || params.fold_held == 0u {
-        lambda[j] = project_four(h.v, alpha_of(h.compliance, h.slot), error, d, lambda[j]);
-        return;
-    }
-    let s = stiffened_error(error);
-    var ds = d;
-    ds.g0 *= s.y;
-    ds.g1 *= s.y;
-    ds.g2 *= s.y;
-    ds.g3 *= s.y;
-    lambda[j] = project_four(h.v, alpha_of(h.compliance, h.slot), s.x, ds, lambda[j]);
 }
 
 @compute @workgroup_size(256)
 fn track(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     // The range is every hinge (first 0).
     let j = range_item(gid, groups);
-    if j == NONE { return; }
-    let h = items[j];
-    let d = dihedral_of(h.v);
-    if d.ok {
-        items[j].angle = clamp(unwrap_angle(h.angle, d.phi), -MAX_TRACKED_ANGLE, MAX_TRACKED_ANGLE);
+    if j != NONE {
+        track_hinge(j);
     }
 }

@@ -1,29 +1,20 @@
-// Prediction: x_prev = x, then for dynamic particles v = (v + g dt) keep and
-// x += v dt (crate::solver::xpbd::predict).
+// Prediction and velocity update over the particles (lib/motion.wgsl),
+// and the grabbed particle.
 
 @compute @workgroup_size(256)
 fn predict(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let i = flat_index(gid, groups);
-    if i >= params.particle_count {
-        return;
-    }
-    let x = pos[i];
-    prev[i] = x;
-    if x.w > 0.0 {
-        let v = (vel[i].xyz + params.gravity * params.dt) * params.keep;
-        vel[i] = vec4<f32>(v, 0.0);
-        pos[i] = vec4<f32>(x.xyz + v * params.dt, x.w);
+    if i < params.particle_count {
+        predict_particle(i);
     }
 }
 
-// v = (x - x_prev) / dt (crate::solver::xpbd::update_velocities).
 @compute @workgroup_size(256)
 fn update_velocities(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let i = flat_index(gid, groups);
-    if i >= params.particle_count {
-        return;
+    if i < params.particle_count {
+        update_velocity(i);
     }
-    vel[i] = vec4<f32>((pos[i].xyz - prev[i].xyz) / params.dt, 0.0);
 }
 
 // The grabbed particle pulled towards its target (crate::constraint::Grab).

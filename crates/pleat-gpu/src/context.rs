@@ -44,6 +44,8 @@ pub struct GpuContext {
     pub queue: wgpu::Queue,
     /// The adapter's name and wgpu backend, e.g. "llvmpipe (LLVM 15.0.6, 256 bits) (Vulkan)".
     pub adapter: String,
+    /// What the adapter is: a CPU (lavapipe) runs a workgroup on one core.
+    pub device_type: wgpu::DeviceType,
 }
 
 impl fmt::Debug for GpuContext {
@@ -92,6 +94,7 @@ impl GpuContext {
             device,
             queue,
             adapter: name,
+            device_type: info.device_type,
         })
     }
 

@@ -158,15 +158,16 @@ impl HealthWatch {
 
     /// Records the reduction of the state at the end of a frame (simulated
     /// time `time`), the state bound with the frame's last parameters at
-    /// `params_offset`, unless the last result is still on its way.
+    /// `params_offset`, unless the last result is still on its way;
+    /// returns the dispatches it recorded.
     pub fn record(
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
         (state, params_offset): (&wgpu::BindGroup, u32),
         time: f32,
-    ) {
+    ) -> u32 {
         if self.in_flight.is_some() {
-            return;
+            return 0;
         }
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -185,6 +186,7 @@ impl HealthWatch {
         let size = size_of::<Summary>() as u64;
         encoder.copy_buffer_to_buffer(&self.result, 0, &self.readback, 0, size);
         self.measuring = Some(time);
+        2
     }
 
     /// After the frame's submission: asks for its result, if it was measured.

@@ -14,6 +14,8 @@ const SUMS_BYTES: u64 = 7 * 16;
 /// The free cloths' kernels, their buffers and their slices.
 pub struct Momentum {
     bind_group: wgpu::BindGroup,
+    /// What the last turn could not move each particle by.
+    left: wgpu::Buffer,
     pipelines: [wgpu::ComputePipeline; 3],
     /// Per free cloth: the dynamic offset of its range and its particle count.
     parts: Vec<(u32, u32)>,
@@ -48,13 +50,21 @@ impl Momentum {
         });
         Some(Momentum {
             bind_group,
+            left,
             pipelines: kernels.momentum.clone(),
             parts,
         })
     }
 
-    /// Records the turn of every free cloth, cloth after cloth.
-    pub fn record(&self, pass: &mut wgpu::ComputePass<'_>) {
+    /// What the last turn could not move each particle by (round-off),
+    /// which a persistent kernel carries on.
+    pub fn left(&self) -> &wgpu::Buffer {
+        &self.left
+    }
+
+    /// Records the turn of every free cloth, cloth after cloth; returns
+    /// the dispatches that took.
+    pub fn record(&self, pass: &mut wgpu::ComputePass<'_>) -> u32 {
         let [sum_blocks, solve, apply] = &self.pipelines;
         for &(offset, count) in &self.parts {
             pass.set_bind_group(1, &self.bind_group, &[offset]);
@@ -66,5 +76,6 @@ impl Momentum {
             pass.set_pipeline(apply);
             pass.dispatch_workgroups(x, y, 1);
         }
+        3 * self.parts.len() as u32
     }
 }

@@ -1,8 +1,12 @@
 //! The WGSL sources of the compute kernels. Each module is the shared
-//! prelude followed by one kernel file: `structs.wgsl`, every struct the
-//! host writes or reads (each mirrors a Pod type, checked by
-//! `crate::layout`'s tests), then `common.wgsl`, the particle state and the
-//! helpers every kernel shares (the XPBD multiplier update among them).
+//! prelude, the libraries it uses and one kernel file: `structs.wgsl`,
+//! every struct the host writes or reads (each mirrors a Pod type, checked
+//! by `crate::layout`'s tests), `state.wgsl`, the particle state's bindings
+//! (a persistent kernel binds its own), then `common.wgsl`, the helpers
+//! every kernel shares (the XPBD multiplier update among them). A library
+//! (`shaders/lib/`) holds a constraint kind's work on one index, so that a
+//! kernel dispatched per colour and the persistent kernel run the same
+//! code; it names the buffers its includer binds.
 //!
 //! A generated preamble rather than a module system (naga_oil, wesl): the
 //! kernels share one flat prelude and nothing else, which concatenation
@@ -14,6 +18,10 @@
 pub struct Module {
     /// The kernel file's stem.
     pub name: &'static str,
+    /// The state's bindings: [`STATE`], or none where the kernel binds its own.
+    state: &'static str,
+    /// The libraries the kernel calls.
+    libs: &'static [&'static str],
     /// The kernel file's text.
     body: &'static str,
     /// Compute entry points it defines.
@@ -22,13 +30,32 @@ pub struct Module {
 
 /// The structs every kernel shares, laid out as the host's Pod types.
 pub(crate) const STRUCTS: &str = include_str!("../shaders/structs.wgsl");
-/// The particle state and the shared helpers.
+/// The particle state's bindings for kernels dispatched per stage.
+const STATE: &str = include_str!("../shaders/state.wgsl");
+/// The shared constants and helpers.
 const COMMON: &str = include_str!("../shaders/common.wgsl");
+
+/// A particle's prediction and velocity update.
+const MOTION_LIB: &str = include_str!("../shaders/lib/motion.wgsl");
+/// Distance constraints and their strain limits.
+const DISTANCE_LIB: &str = include_str!("../shaders/lib/distance.wgsl");
+/// Origami hinges.
+const HINGE_LIB: &str = include_str!("../shaders/lib/hinge.wgsl");
+/// The free cloths' turn.
+const MOMENTUM_LIB: &str = include_str!("../shaders/lib/momentum.wgsl");
 
 macro_rules! module {
     ($name:literal, [$($entry:literal),+]) => {
+        module!($name, STATE, [], [$($entry),+])
+    };
+    ($name:literal, [$($lib:ident),*], [$($entry:literal),+]) => {
+        module!($name, STATE, [$($lib),*], [$($entry),+])
+    };
+    ($name:literal, $state:expr, [$($lib:ident),*], [$($entry:literal),+]) => {
         Module {
             name: $name,
+            state: $state,
+            libs: &[$($lib),*],
             body: include_str!(concat!("../shaders/", $name, ".wgsl")),
             entry_points: &[$($entry),+],
         }
@@ -36,7 +63,11 @@ macro_rules! module {
 }
 
 /// Prediction, velocity update and the grabbed particle.
-pub const PREDICT: Module = module!("predict", ["predict", "update_velocities", "grab"]);
+pub const PREDICT: Module = module!(
+    "predict",
+    [MOTION_LIB],
+    ["predict", "update_velocities", "grab"]
+);
 /// Hard pins placed on their targets.
 pub const PINS: Module = module!("pins", ["place_pins"]);
 /// Aerodynamic wind.
@@ -46,6 +77,7 @@ pub const COLLIDE: Module = module!("collide", ["resolve"]);
 /// Stretch, shear and skip-one distance constraints.
 pub const DISTANCE: Module = module!(
     "distance",
+    [DISTANCE_LIB],
     [
         "solve",
         "limit",
@@ -59,7 +91,7 @@ pub const BENDING: Module = module!("bending", ["solve"]);
 /// Isometric bending.
 pub const ISOMETRIC: Module = module!("isometric", ["solve"]);
 /// Origami hinges and their angle tracking.
-pub const HINGE: Module = module!("hinge", ["solve", "track"]);
+pub const HINGE: Module = module!("hinge", [HINGE_LIB], ["solve", "track"]);
 /// Long-range attachments.
 pub const TETHER: Module = module!("tether", ["solve"]);
 /// The hierarchy's coarse edges.
@@ -93,10 +125,18 @@ pub const SELF_CONTACT: Module = module!(
 pub const HEALTH: Module = module!("health", ["reduce_blocks", "reduce_sums"]);
 
 /// The free cloths' angular momentum kept through the projection.
-pub const MOMENTUM: Module = module!("momentum", ["sum_blocks", "solve", "apply"]);
+pub const MOMENTUM: Module = module!("momentum", [MOMENTUM_LIB], ["sum_blocks", "solve", "apply"]);
+
+/// A whole frame of a small sheet in one workgroup.
+pub const PERSISTENT: Module = module!(
+    "persistent",
+    "",
+    [MOTION_LIB, DISTANCE_LIB, HINGE_LIB, MOMENTUM_LIB],
+    ["frame"]
+);
 
 /// Every module of the backend.
-pub const ALL: [Module; 17] = [
+pub const ALL: [Module; 18] = [
     PREDICT,
     PINS,
     WIND,
@@ -114,14 +154,16 @@ pub const ALL: [Module; 17] = [
     SELF_CONTACT,
     HEALTH,
     MOMENTUM,
+    PERSISTENT,
 ];
 
 impl Module {
     /// The whole WGSL source: the prelude, then the kernel.
     pub fn source(&self) -> String {
+        let libs: String = self.libs.concat();
         format!(
-            "{STRUCTS}\n// ---- common.wgsl ----\n{COMMON}\n// ---- {}.wgsl ----\n{}",
-            self.name, self.body
+            "{STRUCTS}\n{}\n// ---- common.wgsl ----\n{COMMON}\n{libs}\n// ---- {}.wgsl ----\n{}",
+            self.state, self.name, self.body
         )
     }
 }

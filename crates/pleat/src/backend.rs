@@ -98,6 +98,11 @@ pub trait Backend: MaybeSend {
     /// them); nothing to do for a backend that steps in place.
     fn upload(&mut self, particles: &Particles);
 
+    /// Compute dispatches the last frame took on a GPU; `None` on the CPU.
+    fn dispatches_per_frame(&self) -> Option<u32> {
+        None
+    }
+
     /// The backend as `Any`, so that a caller that knows the concrete type
     /// (a renderer drawing from a GPU backend's buffers) can reach it.
     fn as_any(&self) -> &dyn std::any::Any;

@@ -222,6 +222,18 @@ impl GpuBackend {
             return;
         }
         self.per_substep = PerSubstep::new(device, &self.counts, substeps);
+        if let Some(p) = &mut self.persistent {
+            p.rebind_state(
+                device,
+                &super::persistent::StateBuffers {
+                    pos: &self.pos,
+                    prev: &self.prev,
+                    vel: &self.vel,
+                    params: &self.per_substep.params,
+                    compliances: &self.compliance_table,
+                },
+            );
+        }
         self.stages = Stages::new(
             device,
             &self.kernels,

@@ -11,7 +11,8 @@
 //! is split by job: `resources` checks and uploads the model and owns the
 //! buffers, `projection` builds the constraint kinds' buffers by solver,
 //! `bindings` binds the kernels to them, `record` writes each frame's
-//! uniforms and records its passes, and `readback` copies the state back.
+//! uniforms and records its passes, `persistent` runs a small sheet's
+//! whole frame in one workgroup, and `readback` copies the state back.
 
 use crate::context::GpuContext;
 use crate::data::Counts;
@@ -27,6 +28,7 @@ use pleat::solver::{SolverSettings, StageTimes};
 use pleat::{Backend, Particles, World};
 
 mod bindings;
+mod persistent;
 mod projection;
 mod readback;
 mod record;
@@ -75,6 +77,12 @@ pub struct GpuBackend {
     /// strain limits for a held fold and a moving one (paper's give while
     /// it moves); `None` where the two are the same.
     fold_limits: Option<(FoldLimits, Vec<DistanceConstraint>)>,
+    /// A small sheet's frame in one dispatch, where the model allows it.
+    persistent: Option<persistent::Persistent>,
+    /// Whether frames may take the persistent kernel (the default).
+    persistent_allowed: bool,
+    /// Dispatches the last frame recorded.
+    dispatches: u32,
 }
 
 impl GpuBackend {
@@ -88,6 +96,19 @@ impl GpuBackend {
     /// The context the backend runs on.
     pub fn context(&self) -> &GpuContext {
         &self.context
+    }
+
+    /// Lets frames of a small sheet run as one dispatch of one workgroup
+    /// (the default), or keeps them to a dispatch per colour, kind and
+    /// substep (to compare the two).
+    pub fn allow_persistent(&mut self, allowed: bool) {
+        self.persistent_allowed = allowed;
+    }
+
+    /// Whether the model is one the persistent kernel runs (a small sheet
+    /// of hinges and distances alone).
+    pub fn has_persistent(&self) -> bool {
+        self.persistent.is_some()
     }
 }
 
@@ -144,6 +165,10 @@ impl Backend for GpuBackend {
 
     fn as_any(&self) -> &dyn std::any::Any {
         self
+    }
+
+    fn dispatches_per_frame(&self) -> Option<u32> {
+        Some(self.dispatches)
     }
 
     fn health(&mut self) -> Option<pleat::stability::Health> {

@@ -26,8 +26,9 @@ pub(super) struct FrameData {
 }
 
 impl SelfContactStage {
-    /// Builds the hash grid and solves the contacts of `particles` particles.
-    fn record(&self, pass: &mut wgpu::ComputePass<'_>, particles: u32) {
+    /// Builds the hash grid and solves the contacts of `particles`
+    /// particles; returns the dispatches it recorded.
+    fn record(&self, pass: &mut wgpu::ComputePass<'_>, particles: u32) -> u32 {
         let [clear, count, scan_blocks, scan_sums, scan_add, scatter, contacts, apply] =
             &self.pipelines;
         pass.set_bind_group(1, &self.bind_group, &[0]);
@@ -46,16 +47,18 @@ impl SelfContactStage {
         over(pass, scatter, particles);
         over(pass, contacts, particles);
         over(pass, apply, particles);
+        self.pipelines.len() as u32
     }
 }
 
 impl StrainLimitStages {
-    fn record(&self, pass: &mut wgpu::ComputePass<'_>) {
+    /// Records the sweeps; returns the dispatches they took.
+    fn record(&self, pass: &mut wgpu::ComputePass<'_>) -> u32 {
+        let mut n = 0;
         for _ in 1..self.sweeps {
-            dispatch(pass, &self.sweep, None);
+            n += dispatch(pass, &self.sweep, None);
         }
-        dispatch(pass, &self.measured, None);
-        dispatch(pass, &self.further, Some(1));
+        n + dispatch(pass, &self.measured, None) + dispatch(pass, &self.further, Some(1))
     }
 }
 
@@ -77,8 +80,11 @@ impl GpuBackend {
         }
         self.hold_fold(control.fold.held);
         let substeps = self.write_frame(world, (settings, compliances), control);
+        let persistent = self.runs_persistent(world, control, substeps);
+        // A persistent frame is stamped as one substep.
+        let stamped = if persistent { 1 } else { substeps };
         if let Some(t) = &mut self.timestamps {
-            t.begin_frame(&self.context.device, substeps);
+            t.begin_frame(&self.context.device, stamped);
         }
         let mut encoder =
             self.context
@@ -90,31 +96,56 @@ impl GpuBackend {
             .fold_limits
             .as_mut()
             .is_some_and(|(limits, _)| limits.take_came_to_rest());
+        self.dispatches = 0;
         if came_to_rest {
-            self.record_held_limits(&mut encoder);
+            self.dispatches += self.record_held_limits(&mut encoder);
         }
-        for s in 0..substeps {
-            for lambda in &self.lambdas {
-                encoder.clear_buffer(lambda, 0, None);
+        if persistent {
+            let (queue, timestamps) = (&self.context.queue, self.timestamps.as_ref());
+            if let Some(p) = &mut self.persistent {
+                p.record(
+                    queue,
+                    &mut encoder,
+                    (substeps, settings.iterations),
+                    timestamps,
+                );
+                self.dispatches += 1;
             }
-            self.record_substep(&mut encoder, s, (world, control), settings.iterations);
+        } else {
+            for s in 0..substeps {
+                for lambda in &self.lambdas {
+                    encoder.clear_buffer(lambda, 0, None);
+                }
+                self.dispatches +=
+                    self.record_substep(&mut encoder, s, (world, control), settings.iterations);
+            }
         }
         let last = (substeps - 1) * UNIFORM_STRIDE as u32;
-        self.health.record(
+        self.dispatches += self.health.record(
             &mut encoder,
             (&self.stages.state, last),
             world.time + frame_dt,
         );
         if let Some(t) = &self.timestamps {
-            t.resolve(&mut encoder, substeps);
+            t.resolve(&mut encoder, stamped);
         }
         self.context.queue.submit([encoder.finish()]);
         self.health.request();
         if let Some(t) = &mut self.timestamps {
-            t.request(substeps);
+            t.request(stamped);
         }
         // Frees the resources of finished frames without waiting.
         let _ = self.context.device.poll(wgpu::PollType::Poll);
+    }
+
+    /// Whether the frame runs as the persistent kernel's one dispatch: the
+    /// sheet is one it runs, it is allowed, and nothing it does not run
+    /// acts this frame (a grab, wind).
+    fn runs_persistent(&self, world: &World, control: &Control, substeps: u32) -> bool {
+        self.persistent_allowed
+            && control.grab.is_none()
+            && world.wind.is_none()
+            && self.persistent.as_ref().is_some_and(|p| p.runs(substeps))
     }
 
     /// Writes the parameters, pin targets and collider poses of every
@@ -175,29 +206,31 @@ impl GpuBackend {
     /// frame's first prediction, until no edge is beyond its limit (up to
     /// [`pleat::solver::xpbd::FOLD_HOLD_SWEEPS`], in one dispatch): the velocities stay as they
     /// are ([`pleat::solver::xpbd::XpbdConstraints::meet_held_limits`]).
-    fn record_held_limits(&self, encoder: &mut wgpu::CommandEncoder) {
+    fn record_held_limits(&self, encoder: &mut wgpu::CommandEncoder) -> u32 {
         let Some(limits) = &self.stages.strain_limit else {
-            return;
+            return 0;
         };
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("held fold limits"),
             timestamp_writes: None,
         });
         pass.set_bind_group(0, &self.stages.state, &[0]);
-        dispatch(&mut pass, &limits.held, Some(1));
+        dispatch(&mut pass, &limits.held, Some(1))
     }
 
     /// Records one substep as four passes (stamped where the adapter has
-    /// timestamps): prediction, constraints, self-contacts, collisions.
+    /// timestamps): prediction, constraints, self-contacts, collisions;
+    /// returns the dispatches it recorded.
     fn record_substep(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         s: u32,
         (world, control): (&World, &Control),
         iterations: u32,
-    ) {
+    ) -> u32 {
         let st = &self.stages;
         let particles = self.counts.particles;
+        let mut n = 0;
         let mut pass = |stage: TimedStage, record: &mut dyn FnMut(&mut wgpu::ComputePass<'_>)| {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("substep"),
@@ -208,64 +241,69 @@ impl GpuBackend {
         };
         pass(TimedStage::Predict, &mut |pass| {
             if world.wind.is_some() {
-                dispatch(pass, &st.wind[0], Some(self.counts.triangles));
-                dispatch(pass, &st.wind[1], Some(particles));
+                n += dispatch(pass, &st.wind[0], Some(self.counts.triangles));
+                n += dispatch(pass, &st.wind[1], Some(particles));
             }
-            over_particles(pass, &st.predict, particles);
+            n += over_particles(pass, &st.predict, particles);
             if let Some(pins) = &st.pins {
-                dispatch(pass, pins, None);
+                n += dispatch(pass, pins, None);
             }
         });
         pass(TimedStage::Constraints, &mut |pass| {
             for _ in 0..iterations {
                 for stage in &st.constraints {
-                    dispatch(pass, stage, None);
+                    n += dispatch(pass, stage, None);
                 }
             }
             if let Some(limits) = &st.strain_limit {
-                limits.record(pass);
+                n += limits.record(pass);
             }
             if let Some(momentum) = &self.momentum {
-                momentum.record(pass);
+                n += momentum.record(pass);
             }
             if let Some(track) = &st.track {
-                dispatch(pass, track, None);
+                n += dispatch(pass, track, None);
             }
             if control.grab.is_some() {
                 pass.set_pipeline(&st.grab);
                 pass.dispatch_workgroups(1, 1, 1);
+                n += 1;
                 if let Some(reach) = &st.grab_reach {
-                    dispatch(pass, reach, None);
+                    n += dispatch(pass, reach, None);
                 }
             }
         });
         pass(TimedStage::SelfContacts, &mut |pass| {
             if let Some(contact) = &st.self_contact {
-                contact.record(pass, particles);
+                n += contact.record(pass, particles);
             }
         });
         pass(TimedStage::Collisions, &mut |pass| {
             if let Some(collide) = &st.collide {
-                dispatch(pass, collide, Some(particles));
+                n += dispatch(pass, collide, Some(particles));
             }
-            over_particles(pass, &st.update_velocities, particles);
+            n += over_particles(pass, &st.update_velocities, particles);
         });
+        n
     }
 }
 
-/// Dispatches a kernel of the state alone over `particles` invocations.
+/// Dispatches a kernel of the state alone over `particles` invocations
+/// (one dispatch).
 fn over_particles(
     pass: &mut wgpu::ComputePass<'_>,
     pipeline: &wgpu::ComputePipeline,
     particles: u32,
-) {
+) -> u32 {
     pass.set_pipeline(pipeline);
     let (x, y) = workgroups(particles);
     pass.dispatch_workgroups(x, y, 1);
+    1
 }
 
-/// Dispatches `stage` over each of its slices, or over `count` invocations.
-pub(super) fn dispatch(pass: &mut wgpu::ComputePass<'_>, stage: &Stage, count: Option<u32>) {
+/// Dispatches `stage` over each of its slices, or over `count` invocations;
+/// returns how many dispatches that took.
+pub(super) fn dispatch(pass: &mut wgpu::ComputePass<'_>, stage: &Stage, count: Option<u32>) -> u32 {
     pass.set_pipeline(&stage.pipeline);
     match count {
         Some(count) => {
@@ -274,6 +312,7 @@ pub(super) fn dispatch(pass: &mut wgpu::ComputePass<'_>, stage: &Stage, count: O
             }
             let (x, y) = workgroups(count);
             pass.dispatch_workgroups(x, y, 1);
+            1
         }
         None => {
             for &(offset, count) in &stage.dispatches {
@@ -281,6 +320,7 @@ pub(super) fn dispatch(pass: &mut wgpu::ComputePass<'_>, stage: &Stage, count: O
                 let (x, y) = workgroups(count);
                 pass.dispatch_workgroups(x, y, 1);
             }
+            stage.dispatches.len() as u32
         }
     }
 }

@@ -5,6 +5,7 @@
 //! fold's strain limits change.
 
 use super::bindings::Stages;
+use super::persistent::{self, Persistent};
 use super::projection::{
     jacobi_projection, xpbd_projection, ConstraintBuffers, ConstraintKind, Projection,
 };
@@ -48,6 +49,11 @@ impl RangeTable {
             .filter(|r| !r.is_empty())
             .map(|r| self.push(r.start as u32, r.len() as u32))
             .collect()
+    }
+
+    /// The slice at dynamic offset `offset`.
+    pub(super) fn at(&self, offset: u32) -> Range {
+        self.0[(offset as u64 / UNIFORM_STRIDE) as usize]
     }
 
     pub(super) fn bytes(&self) -> Vec<u8> {
@@ -285,7 +291,8 @@ impl GpuBackend {
             free_parts,
             fold_limits,
         } = projection;
-        let free_parts: Vec<(u32, u32)> = free_parts
+        let free_part_ranges = free_parts;
+        let free_parts: Vec<(u32, u32)> = free_part_ranges
             .iter()
             .map(|r| table.push(r.start as u32, r.len() as u32))
             .collect();
@@ -357,7 +364,24 @@ impl GpuBackend {
             contact_cell: buffers.self_contact.as_ref().map_or(0.0, |c| c.cell),
             contact_buckets: buffers.self_contact.as_ref().map_or(0, |c| c.buckets),
         };
-        let per_substep = PerSubstep::new(device, &counts, settings.substeps.max(1));
+        let sheet = persistent::Sheet {
+            kinds: &buffers.constraints,
+            table: &table,
+            strain_limit_sweeps,
+            free_parts: &free_part_ranges,
+            particles: n,
+            has_more: settings.kind != SolverKind::Xpbd
+                || !hard_indices.is_empty()
+                || !buffers.collider_shapes.is_empty()
+                || buffers.self_contact.is_some(),
+        };
+        // The persistent kernel binds the parameters of MAX_SUBSTEPS substeps.
+        let may_persist = persistent::may_run(&sheet);
+        let capacity = match may_persist {
+            true => settings.substeps.max(persistent::MAX_SUBSTEPS),
+            false => settings.substeps.max(1),
+        };
+        let per_substep = PerSubstep::new(device, &counts, capacity);
         let lambdas = buffers
             .constraints
             .iter()
@@ -382,6 +406,19 @@ impl GpuBackend {
             },
         );
         let momentum = Momentum::new(device, &kernels, (&ranges, free_parts), n as u32);
+        let persistent = may_persist
+            .then(|| {
+                let state = persistent::StateBuffers {
+                    pos: &pos,
+                    prev: &prev,
+                    vel: &vel,
+                    params: &per_substep.params,
+                    compliances: &compliance_table,
+                };
+                let left = momentum.as_ref().map(Momentum::left);
+                Persistent::new((device, context.device_type), &sheet, left, &state)
+            })
+            .flatten();
         let backend = GpuBackend {
             context: context.clone(),
             health,
@@ -405,6 +442,9 @@ impl GpuBackend {
             hard_pins,
             soft_pins,
             fold_limits,
+            persistent,
+            persistent_allowed: true,
+            dispatches: 0,
         };
         Ok((backend, notes))
     }

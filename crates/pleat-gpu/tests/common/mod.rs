@@ -34,8 +34,15 @@ pub fn cpu(scene: &Scene) -> Simulation {
 
 /// `scene` on the GPU backend.
 pub fn gpu(scene: &Scene) -> Simulation {
+    gpu_with(scene, true)
+}
+
+/// `scene` on the GPU backend, a small sheet's frames in one dispatch
+/// where `persistent` allows it (the default) or a dispatch per colour.
+pub fn gpu_with(scene: &Scene, persistent: bool) -> Simulation {
     let (model, world) = scene.model(scenes_dir(), "test scene").unwrap();
-    let (backend, _) = GpuBackend::new(context(), &model, &world, &scene.solver).unwrap();
+    let (mut backend, _) = GpuBackend::new(context(), &model, &world, &scene.solver).unwrap();
+    backend.allow_persistent(persistent);
     let folds = model.cloths.iter().any(|c| c.paper.is_some());
     let mut sim = Simulation::with_backend(model, world, scene.solver, Box::new(backend));
     if folds {
