@@ -1,7 +1,7 @@
 //! Mesh topology: unique edges, adjacent triangle pairs and the boundary.
 
 use super::Mesh;
-use std::collections::HashMap;
+use rayon::slice::ParallelSliceMut;
 
 /// An edge with its (one or two) incident triangles' opposite vertices.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -38,7 +38,7 @@ pub struct Topology {
 }
 
 /// A triangle's view of one of its edges `(lo, hi)`.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Debug)]
 struct Incidence {
     opposite: u32,
     /// The triangle runs `lo -> hi` counter-clockwise.
@@ -49,38 +49,42 @@ impl Topology {
     /// Derives the topology of `mesh`. Edges come out sorted by vertex pair, so
     /// the result does not depend on hash order.
     pub fn new(mesh: &Mesh) -> Self {
-        let mut incident: HashMap<[u32; 2], Vec<Incidence>> = HashMap::new();
-        for &[a, b, c] in &mesh.triangles {
-            for (p, q, opposite) in [(a, b, c), (b, c, a), (c, a, b)] {
-                incident
-                    .entry([p.min(q), p.max(q)])
-                    .or_default()
-                    .push(Incidence {
+        // Every triangle's three sides keyed by their sorted ends; a stable
+        // sort groups each edge's sides, in triangle order. No map and no
+        // allocation per edge: a million-vertex mesh has three million.
+        let mut sides: Vec<([u32; 2], Incidence)> = mesh
+            .triangles
+            .iter()
+            .flat_map(|&[a, b, c]| {
+                [(a, b, c), (b, c, a), (c, a, b)].map(|(p, q, opposite)| {
+                    let side = Incidence {
                         opposite,
                         forward: p < q,
-                    });
-            }
-        }
-        let mut edges: Vec<_> = incident.into_iter().collect();
-        edges.sort_unstable_by_key(|(v, _)| *v);
+                    };
+                    ([p.min(q), p.max(q)], side)
+                })
+            })
+            .collect();
+        sides.par_sort_by_key(|&(v, _)| v);
         let mut topo = Topology {
             boundary: vec![false; mesh.positions.len()],
             ..Default::default()
         };
-        for (v, around) in edges {
-            topo.add_edge(v, &around);
+        for edge in sides.chunk_by(|a, b| a.0 == b.0) {
+            topo.add_edge(edge[0].0, edge);
         }
         topo
     }
 
-    fn add_edge(&mut self, v: [u32; 2], around: &[Incidence]) {
+    /// Adds the edge `v` with its triangles' sides `around`.
+    fn add_edge(&mut self, v: [u32; 2], around: &[([u32; 2], Incidence)]) {
         let opposite = match around {
-            [one] => {
+            [(_, one)] => {
                 self.boundary[v[0] as usize] = true;
                 self.boundary[v[1] as usize] = true;
                 [Some(one.opposite), None]
             }
-            [first, second] => {
+            [(_, first), (_, second)] => {
                 let (f, s) = if first.forward {
                     (first, second)
                 } else {
