@@ -1,7 +1,7 @@
 //! `pleat bench`: whole-frame timings of the standard hanging cloth
 //! (DESIGN.md section 5), as a table or one JSON object a line.
 
-use crate::report::{FrameTimes, StagesMs};
+use crate::report::{dispatches_per_frame, FrameTimes, StagesMs};
 use crate::{build_on, check_backend, with_threads};
 use pleat::metrics::stretch;
 use pleat::scene::presets::hanging_cloth;
@@ -133,16 +133,12 @@ fn measure_here(args: &BenchArgs, n: u32) -> Result<BenchLine, String> {
     }
     sim.finish();
     sim.stages = Default::default();
-    let mut dispatches = Some(0.0);
     let times: Vec<_> = (0..args.frames)
         .map(|_| {
             let start = Instant::now();
             sim.step(dt);
             sim.finish();
-            let elapsed = start.elapsed();
-            let frame = sim.backend().dispatches_per_frame();
-            dispatches = dispatches.zip(frame).map(|(sum, n)| sum + f64::from(n));
-            elapsed
+            start.elapsed()
         })
         .collect();
     sim.sync();
@@ -160,7 +156,7 @@ fn measure_here(args: &BenchArgs, n: u32) -> Result<BenchLine, String> {
         frames: args.frames,
         threads: rayon::current_num_threads(),
         stages_ms: StagesMs::from(&sim.stages, args.frames),
-        dispatches_per_frame: dispatches.map(|sum| sum / f64::from(args.frames)),
+        dispatches_per_frame: dispatches_per_frame(&sim, args.frames),
         tethers: args.tethers,
     })
 }

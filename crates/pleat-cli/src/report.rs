@@ -31,6 +31,8 @@ pub struct Report {
     pub self_contacts_per_frame: f64,
     /// Candidate self-contacts the broad phase found, per frame.
     pub self_contact_candidates_per_frame: f64,
+    /// Compute dispatches a frame on a GPU (mean over the run); null on the CPU.
+    pub dispatches_per_frame: Option<f64>,
     pub max_stretch: f32,
     pub mean_stretch: f32,
     pub nan: bool,
@@ -99,6 +101,14 @@ impl StagesMs {
     }
 }
 
+/// The mean compute dispatches a frame over `frames` frames of `sim`, on
+/// a backend that dispatches (a GPU).
+pub fn dispatches_per_frame(sim: &Simulation, frames: u32) -> Option<f64> {
+    sim.backend()
+        .dispatches_per_frame()
+        .map(|_| sim.stages.dispatches as f64 / f64::from(frames.max(1)))
+}
+
 impl Report {
     /// The report of `sim` after its run.
     pub fn new(sim: &Simulation, scene: &Scene, frame_times: &[Duration], threads: usize) -> Self {
@@ -136,6 +146,7 @@ impl Report {
             self_contacts_per_frame: sim.stages.self_contacts as f64 / frames.max(1) as f64,
             self_contact_candidates_per_frame: sim.stages.self_contact_candidates as f64
                 / frames.max(1) as f64,
+            dispatches_per_frame: dispatches_per_frame(sim, frames),
             max_stretch: m.max_stretch,
             mean_stretch: m.mean_stretch,
             nan: m.nan,

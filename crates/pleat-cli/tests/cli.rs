@@ -240,6 +240,10 @@ fn gpu_backend_runs_and_names_its_adapter() {
         serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
     assert_eq!(report["backend"], "gpu");
     assert!(!report["device"].as_str().unwrap().is_empty(), "{report}");
+    assert!(
+        report["dispatches_per_frame"].as_f64().unwrap_or(0.0) > 30.0,
+        "{report}"
+    );
     assert_eq!(report["nan"], false);
     let out = pleat_ok(&[
         "bench",

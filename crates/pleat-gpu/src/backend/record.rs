@@ -130,6 +130,7 @@ impl GpuBackend {
             t.resolve(&mut encoder, stamped);
         }
         self.context.queue.submit([encoder.finish()]);
+        stages.dispatches += u64::from(self.dispatches);
         self.health.request();
         if let Some(t) = &mut self.timestamps {
             t.request(stamped);

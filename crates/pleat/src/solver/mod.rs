@@ -120,6 +120,8 @@ pub struct StageTimes {
     pub self_contacts: u64,
     /// Self-contact candidates from the broad phase, summed over substeps.
     pub self_contact_candidates: u64,
+    /// Compute dispatches recorded, summed over frames (a GPU backend's).
+    pub dispatches: u64,
 }
 
 impl StageTimes {
