@@ -2,7 +2,7 @@
 //! good file, every error of a bad one, non-zero exit if any is bad.
 
 use pleat::mesh::obj::load_obj;
-use pleat::origami::{load_pattern_with_warnings, Sheet, SheetOptions};
+use pleat::origami::{check_flat_foldability, load_pattern_with_warnings, Sheet, SheetOptions};
 use pleat::scene::Scene;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -87,6 +87,23 @@ fn pattern_summary(path: &Path) -> Result<String, String> {
         sheet.triangles.len(),
         sheet.crease_count()
     );
+    let flat = check_flat_foldability(&pattern)
+        .map_err(|e| e.with_file(path.display().to_string()).to_string())?;
+    line.push_str(&if flat.vertices_checked == 0 && flat.vertices_skipped > 0 {
+        format!(
+            "; no interior vertex folds flat ({} with partial or unassigned creases)",
+            flat.vertices_skipped
+        )
+    } else if flat.is_flat_foldable() {
+        format!("; flat-foldable ({} vertices checked)", flat.vertices_checked)
+    } else {
+        format!(
+            "; not flat-foldable as drawn ({} of {} vertices checked break Kawasaki's or Maekawa's theorem, Kawasaki by up to {:.2} deg)",
+            flat.vertices_with_violations(),
+            flat.vertices_checked,
+            flat.max_kawasaki_defect_deg
+        )
+    });
     for w in warnings {
         line.push_str(&format!("; warning: {w}"));
     }

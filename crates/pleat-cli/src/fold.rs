@@ -12,7 +12,10 @@ use crate::{backend_for, check_backend, with_threads};
 use pleat::folding::{
     folded_state_fold, paper_model, paper_simulation_on, paper_solver_settings, FoldRamp,
 };
-use pleat::origami::{builtin, load_pattern, CreasePattern, Sheet, SheetOptions, BUILTIN_NAMES};
+use pleat::origami::{
+    builtin, check_flat_foldability, load_pattern, CreasePattern, FlatFoldability, Sheet,
+    SheetOptions, BUILTIN_NAMES,
+};
 use pleat::Simulation;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -68,6 +71,8 @@ pub struct Paper {
     pub name: String,
     /// `name: V vertices, T triangles, C creases`.
     pub summary: String,
+    /// Kawasaki's and Maekawa's theorems at the pattern's vertices.
+    pub flat_foldability: FlatFoldability,
 }
 
 /// What a fold without pictures measured and wrote.
@@ -93,6 +98,8 @@ pub fn paper(args: &PaperArgs) -> Result<Paper, String> {
     let (pattern, name) = load(&args.pattern)?;
     let sheet = Sheet::from_pattern(&pattern, &SheetOptions::default())
         .map_err(|e| e.with_file(args.pattern.clone()).to_string())?;
+    let flat_foldability = check_flat_foldability(&pattern)
+        .map_err(|e| e.with_file(args.pattern.clone()).to_string())?;
     let ramp = FoldRamp {
         progress: args.progress,
         frames: args.frames,
@@ -110,6 +117,7 @@ pub fn paper(args: &PaperArgs) -> Result<Paper, String> {
         sim: paper_simulation_on((model, world), backend, ramp),
         name,
         summary,
+        flat_foldability,
     })
 }
 
@@ -121,7 +129,10 @@ pub fn fold_meshes(args: &PaperArgs) -> Result<Folded, String> {
     let threads = rayon_threads(args.output.threads)?;
     let (frame_times, output) =
         run_frames(&mut paper.sim, &paper.name, frames(args), &args.output)?;
-    let report = Report::named(&paper.sim, &paper.name, FRAME_DT, &frame_times, threads);
+    let report = Report {
+        flat_foldability: Some(paper.flat_foldability.clone()),
+        ..Report::named(&paper.sim, &paper.name, FRAME_DT, &frame_times, threads)
+    };
     let mut written: Vec<PathBuf> = write_outputs(&report, output, &args.output)?
         .into_iter()
         .collect();
@@ -147,6 +158,7 @@ pub fn fold(args: &FoldArgs) -> Result<ExitCode, String> {
             mut sim,
             name,
             summary,
+            flat_foldability,
         } = paper(&args.paper)?;
         let threads = rayon_threads(args.paper.output.threads)?;
         let dir = args
@@ -167,8 +179,12 @@ pub fn fold(args: &FoldArgs) -> Result<ExitCode, String> {
                 Some(&mut pictures),
             )
         })??;
-        let report = Report::named(&sim, &name, FRAME_DT, &frame_times, threads);
+        let report = Report {
+            flat_foldability: Some(flat_foldability),
+            ..Report::named(&sim, &name, FRAME_DT, &frame_times, threads)
+        };
         crate::print_line(summary);
+        print_flat_foldability(&report);
         crate::render::finish(&report, &pictures, &dir)?;
         if let Some(path) = &args.paper.fold_out {
             write_folded_state(&sim, path)?;
@@ -178,6 +194,7 @@ pub fn fold(args: &FoldArgs) -> Result<ExitCode, String> {
     } else {
         let folded = fold_meshes(&args.paper)?;
         crate::print_line(&folded.paper.summary);
+        print_flat_foldability(&folded.report);
         print_summary(&folded.report);
         for path in &folded.written {
             crate::print_line(format_args!("wrote {}", path.display()));
@@ -189,6 +206,19 @@ pub fn fold(args: &FoldArgs) -> Result<ExitCode, String> {
     } else {
         ExitCode::SUCCESS
     })
+}
+
+/// Prints whether the pattern folds flat: a line when it does, a warning
+/// on stderr where it does not (a partial fold of it is still folded).
+fn print_flat_foldability(report: &Report) {
+    let Some(check) = &report.flat_foldability else {
+        return;
+    };
+    if check.is_flat_foldable() {
+        crate::print_line(check.summary());
+    } else {
+        eprintln!("warning: {}", check.summary());
+    }
 }
 
 /// Writes the folded paper of `sim` as a FOLD file.

@@ -195,13 +195,17 @@ impl Pictures {
 
 impl FrameSink for Pictures {
     fn reads_particles(&self) -> bool {
-        !self.from_gpu
+        // Paper is framed as it is: its positions come back to frame it.
+        !self.from_gpu || self.renderer.follows_paper()
     }
 
     fn frame(&mut self, index: u32, sim: &Simulation) -> Result<(), String> {
         let start = Instant::now();
         let positions = match gpu_backend(sim) {
-            Some(gpu) => Positions::Gpu(gpu.positions()),
+            Some(gpu) => {
+                self.renderer.frame_paper(&sim.particles.x);
+                Positions::Gpu(gpu.positions())
+            }
             None => Positions::Cpu(&sim.particles.x),
         };
         let picture = self

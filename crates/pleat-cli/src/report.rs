@@ -1,6 +1,7 @@
 //! report.json: what a run measured (DESIGN.md section 5).
 
 use pleat::folding::FoldMetrics;
+use pleat::origami::FlatFoldability;
 use pleat::scene::Scene;
 use pleat::solver::{SolverKind, StageTimes};
 use pleat::Simulation;
@@ -51,6 +52,10 @@ pub struct Report {
     /// Fold progress, largest fold-angle errors and strain of paper parts.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub origami: Option<FoldMetrics>,
+    /// Kawasaki's and Maekawa's theorems at the crease pattern's interior
+    /// vertices (`pleat fold` only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub flat_foldability: Option<FlatFoldability>,
 }
 
 /// Milliseconds per frame over the run.
@@ -158,6 +163,7 @@ impl Report {
             collider_penetrations: m.collider_penetrations,
             kinetic_energy: m.kinetic_energy,
             origami: FoldMetrics::measure(sim),
+            flat_foldability: None,
         }
     }
 

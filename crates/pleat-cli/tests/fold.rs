@@ -177,3 +177,54 @@ fn a_builtin_folds_on_the_gpu_backend() {
     assert_eq!(report["origami"]["fold_progress"], 0.5);
     assert!(report["origami"]["max_strain"].as_f64().unwrap() < 0.05);
 }
+
+#[test]
+fn flat_foldability_is_reported_and_a_broken_vertex_is_a_warning() {
+    // The built-in waterbomb base folds flat: report.json says so.
+    let dir = scratch("flat-foldable");
+    let out = dir.to_str().unwrap();
+    let (ok, text) = pleat(&["fold", "waterbomb-base", "--frames", "10", "--out", out]);
+    assert!(ok, "{text}");
+    assert!(
+        text.contains("flat-foldable at every interior vertex"),
+        "{text}"
+    );
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    let check = &report["flat_foldability"];
+    assert_eq!(check["vertices_checked"], 1, "{check}");
+    assert_eq!(check["violations"].as_array().unwrap().len(), 0, "{check}");
+    // Four creases through a point moved off the centre: Kawasaki fails
+    // there; the fold still runs (exit 0) with a warning naming the vertex.
+    let dir = scratch("not-flat-foldable");
+    let pattern = dir.join("moved.fold");
+    std::fs::write(
+        &pattern,
+        r#"{ "vertices_coords": [[0,0],[2,0],[2,2],[0,2],[1.3,1.2],[1,0],[2,1],[1,2],[0,1]],
+             "edges_vertices": [[0,5],[5,1],[1,6],[6,2],[2,7],[7,3],[3,8],[8,0],[4,5],[4,6],[4,7],[4,8]],
+             "edges_assignment": ["B","B","B","B","B","B","B","B","M","M","M","V"] }"#,
+    )
+    .unwrap();
+    let out = dir.to_str().unwrap();
+    let (ok, text) = pleat(&[
+        "fold",
+        pattern.to_str().unwrap(),
+        "--frames",
+        "10",
+        "--out",
+        out,
+    ]);
+    assert!(ok, "{text}");
+    assert!(
+        text.contains("warning: not flat-foldable as drawn"),
+        "{text}"
+    );
+    assert!(text.contains("vertex 4 at (1.3000, 1.2000)"), "{text}");
+    assert!(text.contains("Kawasaki"), "{text}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    let v = &report["flat_foldability"]["violations"][0];
+    assert_eq!(v["pattern_vertex"], 4, "{v}");
+    assert_eq!(v["theorem"], "kawasaki", "{v}");
+    assert!(v["by"].as_f64().unwrap().abs() > 1.0, "{v}");
+}

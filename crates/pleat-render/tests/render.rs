@@ -281,6 +281,39 @@ fn layers_of_a_flat_fold_draw_one_colour_not_stripes() {
 }
 
 #[test]
+fn paper_folded_flat_is_framed_face_on() {
+    // A Miura-ori sheet squashed flat into a vertical plane facing +x: the
+    // camera framing the sheet at rest would see it edge-on.
+    let mut sim = simulation(
+        r#"{
+        "cloths": [{ "mesh": { "pattern": { "builtin": "miura-ori", "size": 0.5, "center": [0, 0.5, 0] } } }],
+        "gravity": [0, 0, 0]
+    }"#,
+    );
+    for x in &mut sim.particles.x {
+        *x = Vec3::new(0.001 * x.z, 0.5 + 0.6 * (x.y - 0.5), 0.6 * x.x);
+    }
+    let mut r = renderer(&sim, green(small(View::Shaded)));
+    assert!(r.follows_paper());
+    let picture = draw(&mut r, &sim);
+    let forward = (r.camera().target - r.camera().position).normalize();
+    assert!(
+        forward.x < -0.9,
+        "looks along {forward}, not the sheet's normal"
+    );
+    let greens = picture.pixels().filter(|p| is_green(p)).count();
+    let share = greens as f32 / (256.0 * 192.0);
+    assert!(share > 0.25, "the sheet fills {share} of the picture");
+    for p in &sim.particles.x {
+        let at = r.project(*p).unwrap();
+        assert!(
+            (0.0..256.0).contains(&at.x) && (0.0..192.0).contains(&at.y),
+            "{at}"
+        );
+    }
+}
+
+#[test]
 fn positions_from_a_gpu_buffer_draw_the_same_picture() {
     use wgpu::util::DeviceExt;
     let mut sim = simulation(FLOATING_CLOTH);

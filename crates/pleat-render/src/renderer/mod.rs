@@ -11,7 +11,7 @@
 //! caller's storage buffer on the same device (the GPU backend's), read
 //! where it is: they never come back to the CPU.
 
-use crate::camera::{project, Camera, Light};
+use crate::camera::{face_on_axis, project, Camera, Light};
 use crate::error::RenderError;
 use crate::geometry::CONSTRAINT_KINDS;
 use crate::legend::{draw_constraint_legend, draw_strain_legend};
@@ -80,8 +80,15 @@ pub struct Renderer {
     view_proj: Mat4,
     globals: wgpu::Buffer,
     strain_range: f32,
-    /// The model holds paper (crease patterns): paper colours and constraint kinds.
+    /// The model holds paper (crease patterns): paper colours and constraint
+    /// kinds, and (unless the settings place the camera) a camera that
+    /// follows the paper face-on.
     is_paper: bool,
+    /// Paper alone (no collider but planes): the camera follows the paper
+    /// face-on unless the settings place it.
+    paper_alone: bool,
+    /// The axis the last face-on framing looked along.
+    face_on: Option<Vec3>,
     global_groups: GlobalGroups,
     cloth: ClothBuffers,
     lines: Option<(wgpu::Buffer, u32)>,
@@ -119,9 +126,19 @@ impl Renderer {
         check_size(&device, &settings)?;
         let stage = Stage::new(model, world, &settings);
         let aspect = settings.width as f32 / settings.height as f32;
-        let camera = stage.camera(&settings, aspect);
-        let view_proj = camera.view_proj(aspect, stage.radius);
         let is_paper = model.cloths.iter().any(|c| c.paper.is_some());
+        let paper_alone = is_paper
+            && world
+                .colliders
+                .iter()
+                .all(|c| matches!(c.shape, pleat::collide::Shape::Plane { .. }));
+        let face_on = (paper_alone && settings.camera.is_none())
+            .then(|| face_on_axis(&model.rest, None))
+            .flatten();
+        let camera = face_on
+            .and_then(|axis| Camera::facing(&model.rest, axis, aspect))
+            .unwrap_or_else(|| stage.camera(&settings, aspect));
+        let view_proj = camera.view_proj(aspect, stage.radius);
         let strain_range = settings
             .strain_range
             .unwrap_or(if is_paper { 0.02 } else { 0.1 });
@@ -159,6 +176,8 @@ impl Renderer {
             globals,
             strain_range,
             is_paper,
+            paper_alone,
+            face_on,
             global_groups,
             cloth: ClothBuffers::new(&device, model),
             lines: resources::line_buffer(&device, model, settings.view),
@@ -302,6 +321,9 @@ impl Renderer {
         positions: Positions<'_>,
         world: &World,
     ) -> Result<wgpu::CommandEncoder, RenderError> {
+        if let Positions::Cpu(x) = positions {
+            self.frame_paper(x);
+        }
         let positions = self.positions_buffer(positions)?;
         self.upload_meshes(world);
         let mut encoder = self
@@ -337,6 +359,34 @@ impl Renderer {
     /// The camera frames are drawn from.
     pub fn camera(&self) -> Camera {
         self.camera
+    }
+
+    /// Whether the camera follows the paper: the model holds paper, the
+    /// world no collider but planes, and the settings do not place the camera. Then [`Renderer::frame_paper`]
+    /// frames each picture, which [`Renderer::render`] and
+    /// [`Renderer::draw`] do by themselves with positions on the CPU.
+    pub fn follows_paper(&self) -> bool {
+        self.paper_alone && self.settings.camera.is_none()
+    }
+
+    /// Frames `points` (the paper as it is now) face-on, when the camera
+    /// follows the paper: it looks along their axis of least spread,
+    /// tilted a little, from as close as shows them all. The axis of the
+    /// last framing is kept while it stays nearly the least (no flipping
+    /// between two near-equal spreads).
+    pub fn frame_paper(&mut self, points: &[Vec3]) {
+        if !self.follows_paper() || points.len() != self.particles {
+            return;
+        }
+        let aspect = self.settings.width as f32 / self.settings.height as f32;
+        let Some(axis) = face_on_axis(points, self.face_on) else {
+            return;
+        };
+        if let Some(camera) = Camera::facing(points, axis, aspect) {
+            self.face_on = Some(axis);
+            self.camera = camera;
+            self.write_globals();
+        }
     }
 
     /// Moves the camera: later frames are drawn from `camera` (the app's orbit).

@@ -9,6 +9,7 @@
 
 pub mod builtin;
 pub mod cp;
+pub mod flat_foldability;
 pub mod fold;
 pub mod load;
 mod path_data;
@@ -20,6 +21,7 @@ mod unfold;
 
 pub use builtin::{builtin, Kresling, MiuraOri, BUILTIN_NAMES};
 pub use cp::parse_cp;
+pub use flat_foldability::{check_flat_foldability, FlatFoldability, Theorem, Violation};
 pub use fold::{parse_fold, to_fold_json};
 pub use load::{load_pattern, load_pattern_with_warnings, parse_pattern};
 pub use pattern::{Assignment, CreasePattern, PatternEdge, PatternError};
