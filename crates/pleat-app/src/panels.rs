@@ -118,6 +118,10 @@ fn backend_and_view(ui: &mut egui::Ui, app: &mut PleatApp) {
         }
     });
     ui.label(format!("device: {}", session.sim.device()));
+    if let Some(dispatches) = session.sim.backend().dispatches_per_frame() {
+        // A small sheet's frame runs in one workgroup: a handful of dispatches.
+        ui.label(format!("GPU dispatches a frame: {dispatches}"));
+    }
     if let Some(notice) = &session.notice {
         ui.colored_label(egui::Color32::from_rgb(230, 180, 60), notice);
     }
