@@ -97,13 +97,8 @@ fn contacts_keep_linear_momentum() {
     }
     assert!(sim.stages.self_contacts > 0, "the cloths never touched");
     let after = sim.particles.momentum();
-    // Velocities come from f32 positions (x - x_prev) / dt: near 0.5 m an
-    // ulp is 6e-8 m, 3e-5 of a 2 mm substep move, so rounding alone moves
-    // the momentum by about 1e-4 of itself over the run (9.4e-5 with the
-    // corrections summed in float in contact order, 1.1e-4 summed in fixed
-    // point).
     assert!(
-        after.distance(before) < 2e-4 * before.length(),
+        after.distance(before) < 1e-4 * before.length(),
         "momentum {before} -> {after}"
     );
 }

@@ -11,14 +11,12 @@
 //!   collision detection over the substep's motion and friction between layers.
 //!
 //! Solve (Jacobi): each contact computes its corrections from the same
-//! positions (in parallel); the few that act are then summed per particle,
-//! each scaled by a relaxation factor over the number of contacts that move
-//! its busiest particle (the averaging of Macklin et al. 2014, section 4.2,
-//! with one scale per contact so that the total momentum is kept). The sums
-//! are taken in parallel in fixed point (integer atomics, 2^-32 m: far
-//! finer than an f32 position), whose result does not depend on the order,
-//! so a run is bit-identical for any thread count. An iteration where no
-//! contact acts ends the solve.
+//! positions (in parallel); the few that act are then summed per particle in
+//! contact order, each scaled by a relaxation factor over the number of
+//! contacts that move its busiest particle (the averaging of Macklin et al. 2014,
+//! section 4.2, with one scale per contact so that the total momentum is
+//! kept): no atomics, bit-identical for any thread count. An iteration where
+//! no contact acts ends the solve.
 
 mod broad_phase;
 mod narrow_phase;
@@ -35,7 +33,6 @@ use patches::Patches;
 use rayon::prelude::*;
 use rest::RestNeighbourhood;
 use serde::{Deserialize, Serialize};
-use std::sync::atomic::{AtomicI64, AtomicU32, Ordering::Relaxed};
 use std::time::Duration;
 use web_time::Instant;
 
@@ -101,56 +98,12 @@ pub struct SelfContacts {
     /// Per contact: corrections of its particles, and whether it acted.
     delta: Vec<[Vec3; 4]>,
     active: Vec<bool>,
+    /// Contacts that acted in this iteration, in order.
+    acting: Vec<u32>,
     /// Per particle: sum and number of the corrections of this iteration
     /// (zero again once applied).
-    sums: Sums,
-}
-
-/// Units of a correction in the fixed-point sums, per metre.
-const FIXED: f32 = 4_294_967_296.0;
-
-/// Per particle: the sum of its corrections in fixed point, and their
-/// number, added to from many threads at once; all zero between iterations.
-#[derive(Debug, Default)]
-struct Sums {
-    sum: Vec<[AtomicI64; 3]>,
-    count: Vec<AtomicU32>,
-}
-
-impl Sums {
-    fn new(n: usize) -> Self {
-        Sums {
-            sum: (0..n).map(|_| Default::default()).collect(),
-            count: (0..n).map(|_| AtomicU32::new(0)).collect(),
-        }
-    }
-
-    /// Adds `d` to particle `p`'s sum.
-    fn add(&self, p: u32, d: Vec3) {
-        let sum = &self.sum[p as usize];
-        for (s, d) in sum.iter().zip(d.to_array()) {
-            s.fetch_add((d * FIXED).round() as i64, Relaxed);
-        }
-    }
-
-    /// Particle `p`'s sum, set back to zero with its count; `None` if
-    /// nothing moved it.
-    fn take(&self, p: usize) -> Option<Vec3> {
-        if self.count[p].swap(0, Relaxed) == 0 {
-            return None;
-        }
-        let [x, y, z] = self.sum[p]
-            .each_ref()
-            .map(|s| (s.swap(0, Relaxed) as f64 / FIXED as f64) as f32);
-        Some(Vec3::new(x, y, z))
-    }
-}
-
-impl Clone for Sums {
-    /// Zero sums of the same size (they are zero between iterations).
-    fn clone(&self) -> Self {
-        Sums::new(self.count.len())
-    }
+    sum: Vec<Vec3>,
+    count: Vec<u32>,
 }
 
 impl SelfContacts {
@@ -167,7 +120,9 @@ impl SelfContacts {
             contacts: Vec::new(),
             delta: Vec::new(),
             active: Vec::new(),
-            sums: Sums::new(n),
+            acting: Vec::new(),
+            sum: vec![Vec3::ZERO; n],
+            count: vec![0; n],
         }
     }
 
@@ -224,7 +179,6 @@ impl SelfContacts {
     ) -> usize {
         let s = self.settings;
         let xs: &[Vec3] = x;
-        let sums = &self.sums;
         let found: usize = (&self.contacts, &mut self.delta, &mut self.active)
             .into_par_iter()
             .with_min_len(MIN_TASK)
@@ -232,11 +186,6 @@ impl SelfContacts {
                 let r = c.correction(xs, x_prev, inv_mass, &s);
                 *active = r.is_some();
                 *delta = r.unwrap_or_default();
-                for (&p, d) in c.particles().iter().zip(*delta) {
-                    if d != Vec3::ZERO {
-                        sums.count[p as usize].fetch_add(1, Relaxed);
-                    }
-                }
                 usize::from(*active)
             })
             .sum();
@@ -244,6 +193,9 @@ impl SelfContacts {
             return 0;
         }
         let start = Instant::now();
+        self.acting.clear();
+        self.acting
+            .extend((0..self.contacts.len() as u32).filter(|&k| self.active[k as usize]));
         self.gather(x);
         *solve += start.elapsed();
         found
@@ -253,36 +205,35 @@ impl SelfContacts {
     /// contact scaled by the relaxation over the largest number of acting
     /// contacts that move one of its particles (Macklin et al. 2014 average per
     /// particle; a common scale per contact keeps its corrections equal and
-    /// opposite, so the total momentum is kept). Summed in fixed point, so
-    /// the result does not depend on the order or the thread count.
+    /// opposite, so the total momentum is kept). Summed in contact order, so
+    /// the result does not depend on the thread count.
     fn gather(&mut self, x: &mut [Vec3]) {
-        let sums = &self.sums;
-        (&self.contacts, &self.delta, &self.active)
-            .into_par_iter()
-            .with_min_len(MIN_TASK)
-            .filter(|(_, _, &active)| active)
-            .for_each(|(c, delta, _)| {
-                let particles = c.particles();
-                let most = particles
-                    .iter()
-                    .map(|&p| sums.count[p as usize].load(Relaxed))
-                    .max()
-                    .unwrap_or(1)
-                    .max(1);
-                let scale = RELAXATION / most as f32;
-                for (&p, d) in particles.iter().zip(delta) {
-                    if *d != Vec3::ZERO {
-                        sums.add(p, *d * scale);
-                    }
-                }
-            });
-        x.par_iter_mut()
-            .enumerate()
-            .with_min_len(MIN_TASK)
-            .for_each(|(p, x)| {
-                if let Some(d) = sums.take(p) {
-                    *x += d;
-                }
-            });
+        for &k in &self.acting {
+            let c = &self.contacts[k as usize];
+            for (&p, d) in c.particles().iter().zip(self.delta[k as usize]) {
+                self.count[p as usize] += u32::from(d != Vec3::ZERO);
+            }
+        }
+        for &k in &self.acting {
+            let particles = self.contacts[k as usize].particles();
+            let most = particles
+                .iter()
+                .map(|&p| self.count[p as usize])
+                .max()
+                .unwrap_or(1)
+                .max(1);
+            let scale = RELAXATION / most as f32;
+            for (&p, d) in particles.iter().zip(self.delta[k as usize]) {
+                self.sum[p as usize] += d * scale;
+            }
+        }
+        for &k in &self.acting {
+            for &p in self.contacts[k as usize].particles() {
+                let p = p as usize;
+                x[p] += self.sum[p];
+                self.sum[p] = Vec3::ZERO;
+                self.count[p] = 0;
+            }
+        }
     }
 }
