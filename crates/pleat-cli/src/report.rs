@@ -91,6 +91,11 @@ pub struct StagesMs {
     pub constraints: f64,
     pub collisions: f64,
     pub self_collision: f64,
+    /// Parts of self_collision (the CPU backend's): candidate search,
+    /// detection and corrections of the candidates, corrections applied.
+    pub self_broad_phase: f64,
+    pub self_narrow_phase: f64,
+    pub self_solve: f64,
 }
 
 impl StagesMs {
@@ -102,6 +107,9 @@ impl StagesMs {
             constraints: per(stages.constraints),
             collisions: per(stages.collisions),
             self_collision: per(stages.self_collision),
+            self_broad_phase: per(stages.self_broad_phase),
+            self_narrow_phase: per(stages.self_narrow_phase),
+            self_solve: per(stages.self_solve),
         }
     }
 }
@@ -215,8 +223,8 @@ impl Report {
     pub fn profile_text(&self) -> String {
         let s = &self.stages_ms;
         format!(
-            "profile (ms per frame): forces {:.3}, predict {:.3}, constraints {:.3}, collisions {:.3}, self-collision {:.3}; per frame: {:.1} collider contacts, {:.1} self-contact candidates, {:.1} self-contacts acting",
-            s.forces, s.predict, s.constraints, s.collisions, s.self_collision, self.contacts_per_frame, self.self_contact_candidates_per_frame, self.self_contacts_per_frame
+            "profile (ms per frame): forces {:.3}, predict {:.3}, constraints {:.3}, collisions {:.3}, self-collision {:.3} (broad phase {:.3}, narrow phase {:.3}, solve {:.3}); per frame: {:.1} collider contacts, {:.1} self-contact candidates, {:.1} self-contacts acting",
+            s.forces, s.predict, s.constraints, s.collisions, s.self_collision, s.self_broad_phase, s.self_narrow_phase, s.self_solve, self.contacts_per_frame, self.self_contact_candidates_per_frame, self.self_contacts_per_frame
         )
     }
 }

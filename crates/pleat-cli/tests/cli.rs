@@ -72,9 +72,19 @@ fn default_run_writes_the_report_contract() {
     assert_eq!(r["backend"], "cpu");
     assert_eq!(r["frames"], 5);
     assert_eq!(r["nan"], false);
-    for stage in ["predict", "constraints", "collisions"] {
+    for stage in [
+        "predict",
+        "constraints",
+        "collisions",
+        "self_collision",
+        "self_broad_phase",
+        "self_narrow_phase",
+        "self_solve",
+    ] {
         assert!(r["stages_ms"][stage].is_number(), "stages_ms.{stage}");
     }
+    // drape has self-collision on: its broad phase ran.
+    assert!(r["stages_ms"]["self_broad_phase"].as_f64().unwrap() > 0.0);
     for k in ["mean", "p50", "p95"] {
         assert!(r["ms_per_frame"][k].as_f64().unwrap() > 0.0);
     }

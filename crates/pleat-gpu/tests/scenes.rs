@@ -16,6 +16,15 @@ use pleat::{Backend, Simulation};
 use pleat_gpu::GpuBackend;
 use std::path::Path;
 
+/// The shipped drape with self-collision off: the tests that use it are
+/// about the sheet, its colliders and the backend's plumbing, and run at
+/// the cost they had before the scene turned self-collision on.
+fn drape() -> pleat::scene::Scene {
+    let mut scene = scene_file("drape.json");
+    scene.solver.self_collision.enabled = false;
+    scene
+}
+
 /// The GPU and CPU backends agree after `frames`: mean particle distance
 /// under 1% of the cloth's size, max stretch within 2%.
 fn follows_cpu(name: &str, scene: &pleat::scene::Scene, frames: u32) -> (Simulation, Simulation) {
@@ -65,7 +74,7 @@ fn drape_follows_the_cpu_until_it_buckles_and_never_penetrates() {
     // contacts grows tenfold every 5 frames as the symmetric sheet buckles
     // over the sphere (mean distance 2e-5 m at frame 20, 5e-4 at 25, 0.03
     // at 50): they are compared as it lands, then the GPU run goes on.
-    let scene = scene_file("drape.json");
+    let scene = drape();
     let (_, mut g) = follows_cpu("drape", &scene, 20);
     for _ in 0..4 {
         run(&mut g, &scene, 10);
@@ -139,7 +148,7 @@ fn a_folding_crane_keeps_no_angular_momentum_on_the_gpu() {
 
 #[test]
 fn two_gpu_runs_are_bit_identical() {
-    let scene = scene_file("drape.json");
+    let scene = drape();
     let (mut a, mut b) = (gpu(&scene), gpu(&scene));
     run(&mut a, &scene, 20);
     run(&mut b, &scene, 20);
@@ -271,7 +280,7 @@ fn self_contacts_are_bit_identical_between_runs() {
 
 #[test]
 fn state_read_without_blocking_matches_the_blocking_read() {
-    let scene = scene_file("drape.json");
+    let scene = drape();
     let (mut a, mut b) = (gpu(&scene), gpu(&scene));
     for sim in [&mut a, &mut b] {
         steps(sim, &scene, 10);
@@ -460,7 +469,7 @@ fn a_live_stretch_compliance_changes_both_backends_alike_and_keeps_the_state() {
 
 #[test]
 fn a_blocking_read_after_an_untaken_request_reads_the_current_state() {
-    let scene = scene_file("drape.json");
+    let scene = drape();
     let (mut a, mut b) = (gpu(&scene), gpu(&scene));
     for sim in [&mut a, &mut b] {
         steps(sim, &scene, 5);

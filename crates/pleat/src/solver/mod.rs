@@ -122,6 +122,15 @@ pub struct StageTimes {
     pub self_contact_candidates: u64,
     /// Compute dispatches recorded, summed over frames (a GPU backend's).
     pub dispatches: u64,
+    /// The parts of `self_collision`, where the backend measures them: its
+    /// broad phase (candidate search), its narrow phase (detection and
+    /// corrections of the candidates) and its solve (the corrections
+    /// applied).
+    pub self_broad_phase: Duration,
+    /// See `self_broad_phase`.
+    pub self_narrow_phase: Duration,
+    /// See `self_broad_phase`.
+    pub self_solve: Duration,
 }
 
 impl StageTimes {

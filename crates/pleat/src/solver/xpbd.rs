@@ -377,6 +377,9 @@ impl Xpbd {
             });
             stages.self_contacts += found.active as u64;
             stages.self_contact_candidates += found.candidates as u64;
+            stages.self_broad_phase += found.broad_phase;
+            stages.self_narrow_phase += found.narrow_phase;
+            stages.self_solve += found.solve;
         }
         self.contacts.resolve(p, world, t, dt, stages);
         StageTimes::time(&mut stages.predict, || update_velocities(p, dt));
