@@ -9,12 +9,13 @@ use crate::render::{PictureArgs, Pictures};
 use crate::report::Report;
 use crate::run::{print_summary, rayon_threads, run_frames, simulate, write_outputs};
 use crate::{backend_for, check_backend, with_threads};
+use pleat::fold_steps::{sheet_step_angles, FoldSteps};
 use pleat::folding::{
     folded_state_fold, paper_model, paper_simulation_on, paper_solver_settings, FoldRamp,
 };
 use pleat::origami::{
-    builtin, check_flat_foldability, load_pattern, CreasePattern, FlatFoldability, Sheet,
-    SheetOptions, BUILTIN_NAMES,
+    builtin, check_flat_foldability, load_pattern, parse_pattern_steps, CreasePattern,
+    FlatFoldability, Sheet, SheetOptions, BUILTIN_NAMES,
 };
 use pleat::Simulation;
 use std::path::{Path, PathBuf};
@@ -49,7 +50,8 @@ pub struct PaperArgs {
     #[arg(long, default_value_t = 1.0)]
     pub progress: f32,
     /// Frames over which the progress rises from 0 to C (then 60 more
-    /// frames to settle).
+    /// frames to settle); for a pattern folded in steps (a multi-frame
+    /// FOLD file), the frames of each step.
     #[arg(long, default_value_t = 120)]
     pub frames: u32,
     /// cpu or gpu.
@@ -95,8 +97,17 @@ pub fn paper(args: &PaperArgs) -> Result<Paper, String> {
         ));
     }
     check_backend(&args.backend)?;
-    let (pattern, name) = load(&args.pattern)?;
+    let (pattern, name, steps) = load(&args.pattern)?;
     let sheet = Sheet::from_pattern(&pattern, &SheetOptions::default())
+        .map_err(|e| e.with_file(args.pattern.clone()).to_string())?;
+    if !steps.is_empty() && args.progress != 1.0 {
+        return Err(format!(
+            "{}: --progress does not apply to a pattern folded in steps ({} steps, each of --frames frames)",
+            args.pattern,
+            steps.len()
+        ));
+    }
+    let steps = sheet_step_angles(&pattern, &SheetOptions::default(), &sheet, &steps)
         .map_err(|e| e.with_file(args.pattern.clone()).to_string())?;
     let flat_foldability = check_flat_foldability(&pattern)
         .map_err(|e| e.with_file(args.pattern.clone()).to_string())?;
@@ -104,17 +115,26 @@ pub fn paper(args: &PaperArgs) -> Result<Paper, String> {
         progress: args.progress,
         frames: args.frames,
     };
-    let (model, world) = paper_model(&sheet);
+    let (mut model, world) = paper_model(&sheet);
+    let step_count = steps.len();
+    if let Some(paper) = model.cloths[0].paper.as_mut() {
+        paper.steps = steps;
+    }
     let backend = backend_for(&model, &world, &paper_solver_settings(), &args.backend)?;
-    let summary = format!(
+    let mut summary = format!(
         "{}: {} vertices, {} triangles, {} creases",
         name,
         sheet.positions.len(),
         sheet.triangles.len(),
         sheet.crease_count()
     );
+    if step_count > 0 {
+        summary += &format!(", folded in {step_count} steps of {} frames", args.frames);
+    }
+    let mut sim = paper_simulation_on((model, world), backend, ramp);
+    sim.fold_steps = FoldSteps::of_model(&sim.model, &[args.frames]);
     Ok(Paper {
-        sim: paper_simulation_on((model, world), backend, ramp),
+        sim,
         name,
         summary,
         flat_foldability,
@@ -127,8 +147,8 @@ pub fn paper(args: &PaperArgs) -> Result<Paper, String> {
 pub fn fold_meshes(args: &PaperArgs) -> Result<Folded, String> {
     let mut paper = paper(args)?;
     let threads = rayon_threads(args.output.threads)?;
-    let (frame_times, output) =
-        run_frames(&mut paper.sim, &paper.name, frames(args), &args.output)?;
+    let frames = frames(&paper.sim, args);
+    let (frame_times, output) = run_frames(&mut paper.sim, &paper.name, frames, &args.output)?;
     let report = Report {
         flat_foldability: Some(paper.flat_foldability.clone()),
         ..Report::named(&paper.sim, &paper.name, FRAME_DT, &frame_times, threads)
@@ -147,9 +167,14 @@ pub fn fold_meshes(args: &PaperArgs) -> Result<Folded, String> {
     })
 }
 
-/// The frames of a fold (the ramp, then the settling) and their length.
-fn frames(args: &PaperArgs) -> (u32, f32) {
-    (args.frames + SETTLE_FRAMES, FRAME_DT)
+/// The frames of a fold (the ramp, or every step, then the settling) and
+/// their length.
+fn frames(sim: &Simulation, args: &PaperArgs) -> (u32, f32) {
+    let folding = sim
+        .fold_steps
+        .as_ref()
+        .map_or(args.frames, |s| s.total_frames());
+    (folding + SETTLE_FRAMES, FRAME_DT)
 }
 
 pub fn fold(args: &FoldArgs) -> Result<ExitCode, String> {
@@ -170,14 +195,9 @@ pub fn fold(args: &FoldArgs) -> Result<ExitCode, String> {
         let settings = args.picture.settings(None, Path::new("."))?;
         let every = args.paper.output.every;
         let mut pictures = Pictures::create(&dir, &sim, settings, FRAME_DT * every as f32)?;
+        let frames = frames(&sim, &args.paper);
         let frame_times = with_threads(args.paper.output.threads, || {
-            simulate(
-                &mut sim,
-                &name,
-                frames(&args.paper),
-                every,
-                Some(&mut pictures),
-            )
+            simulate(&mut sim, &name, frames, every, Some(&mut pictures))
         })??;
         let report = Report {
             flat_foldability: Some(flat_foldability),
@@ -233,15 +253,23 @@ pub fn write_folded_state(sim: &Simulation, path: &Path) -> Result<(), String> {
     std::fs::write(path, text + "\n").map_err(|e| format!("{}: {e}", path.display()))
 }
 
+/// Each pattern edge's fold angle at the end of each step (degrees).
+type EdgeAngles = Vec<Vec<Option<f64>>>;
+
 /// The pattern `arg` names, read from a file (anything with an extension,
-/// or that exists) or built in, and a name for reports.
-fn load(arg: &str) -> Result<(CreasePattern, String), String> {
+/// or that exists) or built in, a name for reports, and the file's steps
+/// (each edge's angle at each step's end; none but for a multi-frame FOLD
+/// file).
+fn load(arg: &str) -> Result<(CreasePattern, String, EdgeAngles), String> {
     let path = Path::new(arg);
     if path.extension().is_some() || path.exists() {
         let name = path
             .file_stem()
             .map_or_else(|| arg.to_string(), |s| s.to_string_lossy().into_owned());
-        return Ok((load_pattern(path).map_err(|e| e.to_string())?, name));
+        let pattern = load_pattern(path).map_err(|e| e.to_string())?;
+        let bytes = std::fs::read(path).map_err(|e| format!("{arg}: {e}"))?;
+        let steps = parse_pattern_steps(arg, &bytes, &pattern).map_err(|e| e.to_string())?;
+        return Ok((pattern, name, steps));
     }
     let pattern = builtin(arg).ok_or_else(|| {
         format!(
@@ -249,5 +277,5 @@ fn load(arg: &str) -> Result<(CreasePattern, String), String> {
             BUILTIN_NAMES.join(", ")
         )
     })?;
-    Ok((pattern, arg.to_string()))
+    Ok((pattern, arg.to_string(), Vec::new()))
 }
