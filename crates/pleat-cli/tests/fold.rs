@@ -247,6 +247,10 @@ fn a_multi_frame_fold_file_folds_step_after_step() {
         "20",
         "--out",
         dir.to_str().unwrap(),
+        "--every",
+        "7",
+        "--fold-out",
+        dir.join("folded.fold").to_str().unwrap(),
     ]);
     assert!(ok, "{text}");
     assert!(text.contains("folded in 3 steps of 20 frames"), "{text}");
@@ -254,6 +258,21 @@ fn a_multi_frame_fold_file_folds_step_after_step() {
         serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
     assert_eq!(report["frames"], 120);
     assert_eq!(report["nan"], false);
+    // Meshes every 7th frame only, the step ends (20, 40, 60) not among them.
+    assert!(dir.join("frame_00007.obj").exists() && !dir.join("frame_00020.obj").exists());
+    // The folded state at the end, and each step's end as a frame.
+    let fold: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("folded.fold")).unwrap()).unwrap();
+    let frames = fold["file_frames"].as_array().unwrap();
+    assert_eq!(frames.len(), 3);
+    assert_eq!(frames[0]["frame_title"], "end of step 1 of 3");
+    let edges = fold["edges_vertices"].as_array().unwrap().len();
+    for frame in frames {
+        assert_eq!(frame["frame_parent"], 0);
+        assert_eq!(frame["edges_foldAngle"].as_array().unwrap().len(), edges);
+        assert_eq!(frame["vertices_coords"].as_array().unwrap().len(), 60);
+    }
+    assert_ne!(frames[0]["vertices_coords"], frames[2]["vertices_coords"]);
     // --progress is a single fold's: refused for a fold in steps.
     let (ok, text) = pleat(&["fold", crane.to_str().unwrap(), "--progress", "0.5"]);
     assert!(!ok && text.contains("--progress does not apply"), "{text}");
