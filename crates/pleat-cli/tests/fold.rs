@@ -273,6 +273,8 @@ fn a_multi_frame_fold_file_folds_step_after_step() {
         assert_eq!(frame["vertices_coords"].as_array().unwrap().len(), 60);
     }
     assert_ne!(frames[0]["vertices_coords"], frames[2]["vertices_coords"]);
+    let (ok, text) = pleat(&["check", crane.to_str().unwrap()]);
+    assert!(ok && text.contains("folded in 3 steps"), "{text}");
     // --progress is a single fold's: refused for a fold in steps.
     let (ok, text) = pleat(&["fold", crane.to_str().unwrap(), "--progress", "0.5"]);
     assert!(!ok && text.contains("--progress does not apply"), "{text}");
@@ -290,10 +292,12 @@ fn a_bad_frame_is_refused_with_its_path() {
             "file_frames": [ { "edges_foldAngle": [0, 0, 0, 0, "ninety"] } ] }"#,
     )
     .unwrap();
-    let (ok, text) = pleat(&["fold", path.to_str().unwrap()]);
-    assert!(!ok, "{text}");
-    assert!(
-        text.contains("bad.fold") && text.contains("file_frames[0].edges_foldAngle[4]"),
-        "{text}"
-    );
+    for command in ["fold", "check"] {
+        let (ok, text) = pleat(&[command, path.to_str().unwrap()]);
+        assert!(!ok, "{command}: {text}");
+        assert!(
+            text.contains("bad.fold") && text.contains("file_frames[0].edges_foldAngle[4]"),
+            "{command}: {text}"
+        );
+    }
 }
