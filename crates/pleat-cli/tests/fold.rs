@@ -258,6 +258,8 @@ fn a_multi_frame_fold_file_folds_step_after_step() {
         serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
     assert_eq!(report["frames"], 120);
     assert_eq!(report["nan"], false);
+    assert_eq!(report["origami"]["fold_step"]["step"], 3);
+    assert_eq!(report["origami"]["fold_step"]["of"], 3);
     // Meshes every 7th frame only, the step ends (20, 40, 60) not among them.
     assert!(dir.join("frame_00007.obj").exists() && !dir.join("frame_00020.obj").exists());
     // The folded state at the end, and each step's end as a frame.

@@ -266,6 +266,19 @@ pub struct FoldMetrics {
     pub worst_hinge: Option<WorstHinge>,
     /// The most strained facet.
     pub worst_facet: Option<WorstFacet>,
+    /// For a fold in steps, the step now folding (`fold_progress` is the
+    /// progress within it) and how many there are; absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fold_step: Option<FoldStepNow>,
+}
+
+/// Where a fold in steps is ([`crate::fold_steps`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct FoldStepNow {
+    /// The step now folding, counted from 1.
+    pub step: usize,
+    /// How many steps the fold has.
+    pub of: usize,
 }
 
 impl FoldMetrics {
@@ -302,6 +315,13 @@ impl FoldMetrics {
             max_strain: worst_facet.strain,
             worst_hinge: WorstHinge::of(&states),
             worst_facet: Some(worst_facet),
+            fold_step: sim
+                .fold_step()
+                .zip(sim.fold_steps.as_ref())
+                .map(|((k, _), s)| FoldStepNow {
+                    step: k + 1,
+                    of: s.len(),
+                }),
         })
     }
 }
