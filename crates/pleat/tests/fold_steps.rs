@@ -235,3 +235,13 @@ fn bad_steps_are_refused_with_where_and_why() {
         );
     }
 }
+
+#[test]
+fn the_shipped_scene_folds_in_its_three_steps() {
+    let repo = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let scene = Scene::load(&repo.join("scenes/fold_waterbomb_in_steps.json")).unwrap();
+    let sim = scene
+        .build(&repo.join("scenes"), "fold_waterbomb_in_steps.json")
+        .unwrap();
+    assert_eq!(sim.fold_steps.as_ref().unwrap().frames, [80, 80, 120]);
+}
