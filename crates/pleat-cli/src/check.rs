@@ -1,8 +1,11 @@
 //! `pleat check`: validate files without simulating; `ok` and a summary per
 //! good file, every error of a bad one, non-zero exit if any is bad.
 
+use pleat::fold_steps::sheet_step_angles;
 use pleat::mesh::obj::load_obj;
-use pleat::origami::{check_flat_foldability, load_pattern_with_warnings, Sheet, SheetOptions};
+use pleat::origami::{
+    check_flat_foldability, load_pattern_with_warnings, parse_pattern_steps, Sheet, SheetOptions,
+};
 use pleat::scene::Scene;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -81,12 +84,20 @@ fn pattern_summary(path: &Path) -> Result<String, String> {
     let (pattern, warnings) = load_pattern_with_warnings(path).map_err(|e| e.to_string())?;
     let sheet = Sheet::from_pattern(&pattern, &SheetOptions::default())
         .map_err(|e| e.with_file(path.display().to_string()).to_string())?;
+    let name = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|e| format!("{name}: {e}"))?;
+    let steps = parse_pattern_steps(&name, &bytes, &pattern).map_err(|e| e.to_string())?;
+    sheet_step_angles(&pattern, &SheetOptions::default(), &sheet, &steps)
+        .map_err(|e| e.with_file(name).to_string())?;
     let mut line = format!(
         "crease pattern, {} vertices, {} triangles, {} creases",
         sheet.positions.len(),
         sheet.triangles.len(),
         sheet.crease_count()
     );
+    if !steps.is_empty() {
+        line.push_str(&format!(", folded in {} steps", steps.len()));
+    }
     let flat = check_flat_foldability(&pattern)
         .map_err(|e| e.with_file(path.display().to_string()).to_string())?;
     line.push_str(&if flat.vertices_checked == 0 && flat.vertices_skipped > 0 {

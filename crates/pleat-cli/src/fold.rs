@@ -4,17 +4,18 @@
 //! `--fold-out` the folded state as FOLD. Exits 1 when the run went NaN or
 //! unstable.
 
-use crate::output::OutputArgs;
+use crate::output::{FrameSink, Output, OutputArgs};
 use crate::render::{PictureArgs, Pictures};
 use crate::report::Report;
-use crate::run::{print_summary, rayon_threads, run_frames, simulate, write_outputs};
+use crate::run::{print_summary, rayon_threads, simulate, write_outputs};
 use crate::{backend_for, check_backend, with_threads};
+use pleat::fold_steps::{sheet_step_angles, FoldSteps};
 use pleat::folding::{
     folded_state_fold, paper_model, paper_simulation_on, paper_solver_settings, FoldRamp,
 };
 use pleat::origami::{
-    builtin, check_flat_foldability, load_pattern, CreasePattern, FlatFoldability, Sheet,
-    SheetOptions, BUILTIN_NAMES,
+    builtin, check_flat_foldability, load_pattern, parse_pattern_steps, CreasePattern,
+    FlatFoldability, Sheet, SheetOptions, BUILTIN_NAMES,
 };
 use pleat::Simulation;
 use std::path::{Path, PathBuf};
@@ -49,7 +50,8 @@ pub struct PaperArgs {
     #[arg(long, default_value_t = 1.0)]
     pub progress: f32,
     /// Frames over which the progress rises from 0 to C (then 60 more
-    /// frames to settle).
+    /// frames to settle); for a pattern folded in steps (a multi-frame
+    /// FOLD file), the frames of each step.
     #[arg(long, default_value_t = 120)]
     pub frames: u32,
     /// cpu or gpu.
@@ -95,8 +97,17 @@ pub fn paper(args: &PaperArgs) -> Result<Paper, String> {
         ));
     }
     check_backend(&args.backend)?;
-    let (pattern, name) = load(&args.pattern)?;
+    let (pattern, name, steps) = load(&args.pattern)?;
     let sheet = Sheet::from_pattern(&pattern, &SheetOptions::default())
+        .map_err(|e| e.with_file(args.pattern.clone()).to_string())?;
+    if !steps.is_empty() && args.progress != 1.0 {
+        return Err(format!(
+            "{}: --progress does not apply to a pattern folded in steps ({} steps, each of --frames frames)",
+            args.pattern,
+            steps.len()
+        ));
+    }
+    let steps = sheet_step_angles(&pattern, &SheetOptions::default(), &sheet, &steps)
         .map_err(|e| e.with_file(args.pattern.clone()).to_string())?;
     let flat_foldability = check_flat_foldability(&pattern)
         .map_err(|e| e.with_file(args.pattern.clone()).to_string())?;
@@ -104,17 +115,26 @@ pub fn paper(args: &PaperArgs) -> Result<Paper, String> {
         progress: args.progress,
         frames: args.frames,
     };
-    let (model, world) = paper_model(&sheet);
+    let (mut model, world) = paper_model(&sheet);
+    let step_count = steps.len();
+    if let Some(paper) = model.cloths[0].paper.as_mut() {
+        paper.steps = steps;
+    }
     let backend = backend_for(&model, &world, &paper_solver_settings(), &args.backend)?;
-    let summary = format!(
+    let mut summary = format!(
         "{}: {} vertices, {} triangles, {} creases",
         name,
         sheet.positions.len(),
         sheet.triangles.len(),
         sheet.crease_count()
     );
+    if step_count > 0 {
+        summary += &format!(", folded in {step_count} steps of {} frames", args.frames);
+    }
+    let mut sim = paper_simulation_on((model, world), backend, ramp);
+    sim.fold_steps = FoldSteps::of_model(&sim.model, &[args.frames]);
     Ok(Paper {
-        sim: paper_simulation_on((model, world), backend, ramp),
+        sim,
         name,
         summary,
         flat_foldability,
@@ -123,12 +143,26 @@ pub fn paper(args: &PaperArgs) -> Result<Paper, String> {
 
 /// Folds as `args` ask, without pictures and without printing: the
 /// meshes and report.json go to `args.output.out`, the folded state to
-/// `args.fold_out`, where given.
+/// `args.fold_out`, where given (with each step's end as a frame, for a
+/// fold in steps).
 pub fn fold_meshes(args: &PaperArgs) -> Result<Folded, String> {
     let mut paper = paper(args)?;
     let threads = rayon_threads(args.output.threads)?;
-    let (frame_times, output) =
-        run_frames(&mut paper.sim, &paper.name, frames(args), &args.output)?;
+    let frames = frames(&paper.sim, args);
+    let mut output = match &args.output.out {
+        Some(dir) => Some(Output::create(
+            dir,
+            args.output.format,
+            &paper.sim,
+            FRAME_DT,
+        )?),
+        None => None,
+    };
+    let mut sink = StepStates::new(&paper.sim, output.as_mut(), args.output.every.max(1));
+    let frame_times = with_threads(args.output.threads, || {
+        simulate(&mut paper.sim, &paper.name, frames, 1, Some(&mut sink))
+    })??;
+    let steps = sink.states;
     let report = Report {
         flat_foldability: Some(paper.flat_foldability.clone()),
         ..Report::named(&paper.sim, &paper.name, FRAME_DT, &frame_times, threads)
@@ -137,7 +171,7 @@ pub fn fold_meshes(args: &PaperArgs) -> Result<Folded, String> {
         .into_iter()
         .collect();
     if let Some(path) = &args.fold_out {
-        write_folded_state(&paper.sim, path)?;
+        write_folded_state(&paper.sim, &steps, path)?;
         written.push(path.clone());
     }
     Ok(Folded {
@@ -147,9 +181,14 @@ pub fn fold_meshes(args: &PaperArgs) -> Result<Folded, String> {
     })
 }
 
-/// The frames of a fold (the ramp, then the settling) and their length.
-fn frames(args: &PaperArgs) -> (u32, f32) {
-    (args.frames + SETTLE_FRAMES, FRAME_DT)
+/// The frames of a fold (the ramp, or every step, then the settling) and
+/// their length.
+fn frames(sim: &Simulation, args: &PaperArgs) -> (u32, f32) {
+    let folding = sim
+        .fold_steps
+        .as_ref()
+        .map_or(args.frames, |s| s.total_frames());
+    (folding + SETTLE_FRAMES, FRAME_DT)
 }
 
 pub fn fold(args: &FoldArgs) -> Result<ExitCode, String> {
@@ -170,15 +209,12 @@ pub fn fold(args: &FoldArgs) -> Result<ExitCode, String> {
         let settings = args.picture.settings(None, Path::new("."))?;
         let every = args.paper.output.every;
         let mut pictures = Pictures::create(&dir, &sim, settings, FRAME_DT * every as f32)?;
+        let frames = frames(&sim, &args.paper);
+        let mut sink = StepStates::new(&sim, Some(&mut pictures), every.max(1));
         let frame_times = with_threads(args.paper.output.threads, || {
-            simulate(
-                &mut sim,
-                &name,
-                frames(&args.paper),
-                every,
-                Some(&mut pictures),
-            )
+            simulate(&mut sim, &name, frames, 1, Some(&mut sink))
         })??;
+        let steps = sink.states;
         let report = Report {
             flat_foldability: Some(flat_foldability),
             ..Report::named(&sim, &name, FRAME_DT, &frame_times, threads)
@@ -187,7 +223,7 @@ pub fn fold(args: &FoldArgs) -> Result<ExitCode, String> {
         print_flat_foldability(&report);
         crate::render::finish(&report, &pictures, &dir)?;
         if let Some(path) = &args.paper.fold_out {
-            write_folded_state(&sim, path)?;
+            write_folded_state(&sim, &steps, path)?;
             crate::print_line(format_args!("wrote {}", path.display()));
         }
         report
@@ -221,27 +257,114 @@ fn print_flat_foldability(report: &Report) {
     }
 }
 
-/// Writes the folded paper of `sim` as a FOLD file.
-pub fn write_folded_state(sim: &Simulation, path: &Path) -> Result<(), String> {
-    let fold = sim
-        .model
+/// Hands every `every`-th frame to `inner` (the meshes or the pictures)
+/// and keeps the folded state at the end of each step of a fold in steps.
+struct StepStates<'a, S: FrameSink + ?Sized> {
+    inner: Option<&'a mut S>,
+    every: u32,
+    /// The last frame of each step.
+    ends: Vec<u32>,
+    /// The folded state (FOLD) at the end of each step so far.
+    states: Vec<serde_json::Value>,
+}
+
+impl<'a, S: FrameSink + ?Sized> StepStates<'a, S> {
+    fn new(sim: &Simulation, inner: Option<&'a mut S>, every: u32) -> Self {
+        let ends = sim.fold_steps.as_ref().map_or_else(Vec::new, |s| {
+            s.frames
+                .iter()
+                .scan(0, |end, &n| {
+                    *end += n;
+                    Some(*end)
+                })
+                .collect()
+        });
+        StepStates {
+            inner,
+            every,
+            ends,
+            states: Vec::new(),
+        }
+    }
+}
+
+impl<S: FrameSink + ?Sized> FrameSink for StepStates<'_, S> {
+    fn frame(&mut self, index: u32, sim: &Simulation) -> Result<(), String> {
+        if self.ends.contains(&index) {
+            if let Some(state) = paper_state(sim) {
+                self.states.push(state);
+            }
+        }
+        match &mut self.inner {
+            Some(inner) if index % self.every == 0 => inner.frame(index, sim),
+            _ => Ok(()),
+        }
+    }
+
+    fn reads_particles(&self) -> bool {
+        !self.ends.is_empty() || self.inner.as_ref().is_none_or(|i| i.reads_particles())
+    }
+
+    fn wants(&self, index: u32) -> bool {
+        self.ends.contains(&index)
+    }
+}
+
+/// The folded state of `sim`'s paper as FOLD, if it has paper.
+fn paper_state(sim: &Simulation) -> Option<serde_json::Value> {
+    sim.model
         .cloths
         .iter()
         .find_map(|cloth| folded_state_fold(cloth, &sim.particles.x))
-        .ok_or("the simulation has no paper to export")?;
+}
+
+/// Writes the folded paper of `sim` as a FOLD file; a fold in steps adds
+/// the folded state at the end of each step (`steps`) as a frame of
+/// `file_frames` (its vertices and fold angles; the rest inherited from
+/// the key frame, the state at the end).
+pub fn write_folded_state(
+    sim: &Simulation,
+    steps: &[serde_json::Value],
+    path: &Path,
+) -> Result<(), String> {
+    let mut fold = paper_state(sim).ok_or("the simulation has no paper to export")?;
+    if !steps.is_empty() {
+        let frames: Vec<serde_json::Value> = steps
+            .iter()
+            .enumerate()
+            .map(|(k, state)| {
+                serde_json::json!({
+                    "frame_title": format!("end of step {} of {}", k + 1, steps.len()),
+                    "frame_parent": 0,
+                    "frame_inherit": true,
+                    "vertices_coords": state["vertices_coords"],
+                    "edges_foldAngle": state["edges_foldAngle"],
+                })
+            })
+            .collect();
+        fold["file_frames"] = serde_json::Value::Array(frames);
+    }
     let text = serde_json::to_string_pretty(&fold).map_err(|e| e.to_string())?;
     std::fs::write(path, text + "\n").map_err(|e| format!("{}: {e}", path.display()))
 }
 
+/// Each pattern edge's fold angle at the end of each step (degrees).
+type EdgeAngles = Vec<Vec<Option<f64>>>;
+
 /// The pattern `arg` names, read from a file (anything with an extension,
-/// or that exists) or built in, and a name for reports.
-fn load(arg: &str) -> Result<(CreasePattern, String), String> {
+/// or that exists) or built in, a name for reports, and the file's steps
+/// (each edge's angle at each step's end; none but for a multi-frame FOLD
+/// file).
+fn load(arg: &str) -> Result<(CreasePattern, String, EdgeAngles), String> {
     let path = Path::new(arg);
     if path.extension().is_some() || path.exists() {
         let name = path
             .file_stem()
             .map_or_else(|| arg.to_string(), |s| s.to_string_lossy().into_owned());
-        return Ok((load_pattern(path).map_err(|e| e.to_string())?, name));
+        let pattern = load_pattern(path).map_err(|e| e.to_string())?;
+        let bytes = std::fs::read(path).map_err(|e| format!("{arg}: {e}"))?;
+        let steps = parse_pattern_steps(arg, &bytes, &pattern).map_err(|e| e.to_string())?;
+        return Ok((pattern, name, steps));
     }
     let pattern = builtin(arg).ok_or_else(|| {
         format!(
@@ -249,5 +372,5 @@ fn load(arg: &str) -> Result<(CreasePattern, String), String> {
             BUILTIN_NAMES.join(", ")
         )
     })?;
-    Ok((pattern, arg.to_string()))
+    Ok((pattern, arg.to_string(), Vec::new()))
 }

@@ -46,6 +46,12 @@ pub trait FrameSink {
     fn reads_particles(&self) -> bool {
         true
     }
+
+    /// Whether frame `index` must be handed over even when it is not one
+    /// of every `every`-th (the end of a fold's step).
+    fn wants(&self, _index: u32) -> bool {
+        false
+    }
 }
 
 impl FrameSink for Output {

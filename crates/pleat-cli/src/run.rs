@@ -168,7 +168,9 @@ pub fn simulate(
         sim.step(frame_dt);
         sim.finish();
         times.push(start.elapsed());
-        let export = output.is_some() && frame % every == 0;
+        let export = output
+            .as_deref()
+            .is_some_and(|o| frame % every == 0 || o.wants(frame));
         let reads = output.as_deref().is_some_and(|o| o.reads_particles());
         // Instability is watched at every frame without a read of the
         // state: a GPU backend reduces it on the device.

@@ -86,6 +86,7 @@ struct Isometric {
 struct Hinge {
     v: array<u32, 4>,
     full_angle: f32,
+    start_angle: f32,
     compliance: f32,
     angle: f32,
     slot: u32,

@@ -132,7 +132,7 @@ fn core_constraints_match_wgsl() {
     assert_mirrors!(DihedralBending as "Bending" { v, rest_angle, compliance, slot });
     assert_mirrors!(IsometricBending as "Isometric" { v, k, compliance, slot });
     assert_mirrors!(OrigamiHinge as "Hinge" {
-        v, full_angle, compliance, angle, slot,
+        v, full_angle, start_angle, compliance, angle, slot,
     });
     assert_mirrors!(Tether as "Tether" { particle => ["particle"], pin, max_length });
     assert_mirrors!(LongRangeLimit as "LongRangeLimit" {

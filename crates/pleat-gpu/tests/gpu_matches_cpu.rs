@@ -100,6 +100,23 @@ fn origami_hinge_kernels() {
     one_frame_matches(text, "origami hinges");
 }
 
+#[test]
+fn origami_hinges_fold_in_steps() {
+    // Two steps: the valleys to half their angle, then the mountains, the
+    // valleys holding. The step change rewrites the hinges' start and end
+    // angles in the items buffer (keeping the tracked angles the GPU
+    // holds); after 6 frames both steps have run.
+    let text = r#"{ "name": "k", "frames": 1, "fps": 60, "gravity": [0, 0, 0],
+        "solver": { "substeps": 4 },
+        "cloths": [ { "mesh": { "pattern": { "builtin": "waterbomb-base", "size": 1.0 } },
+                      "material": { "density": 0.08, "thickness": 0.0 } } ],
+        "fold": { "frames_to_fold": 3,
+                  "steps": [ { "creases": "V", "fraction": 0.5 },
+                             { "creases": "M", "fraction": 0.5 } ] } }"#;
+    frames_match(text, "origami hinges folding in steps", 2);
+    frames_match(text, "origami hinges folding in steps", 6);
+}
+
 /// A Miura-ori of paper-like cloth limited to 1 % strain, with `substeps`,
 /// the edges' `stretch_compliance` and its fold `(progress, frames_to_fold)`.
 fn limited_miura_paper(substeps: u32, stretch_compliance: f32, fold: (f32, u32)) -> String {

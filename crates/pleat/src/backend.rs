@@ -106,6 +106,11 @@ pub trait Backend: MaybeSend {
     /// The backend as `Any`, so that a caller that knows the concrete type
     /// (a renderer drawing from a GPU backend's buffers) can reach it.
     fn as_any(&self) -> &dyn std::any::Any;
+
+    /// Gives the origami hinges the start and end angles of a fold's step
+    /// ([`crate::fold_steps`]), keeping their tracked angles; a backend
+    /// without hinges ignores it.
+    fn set_hinge_targets(&mut self, _targets: &crate::fold_steps::HingeTargets) {}
 }
 
 /// The CPU backend: any solver stepping the particles in place on rayon's threads.
@@ -158,6 +163,10 @@ impl Backend for CpuBackend {
     fn download(&mut self, _particles: &mut Particles) {}
 
     fn upload(&mut self, _particles: &Particles) {}
+
+    fn set_hinge_targets(&mut self, targets: &crate::fold_steps::HingeTargets) {
+        self.solver.set_hinge_targets(targets);
+    }
 
     fn as_any(&self) -> &dyn std::any::Any {
         self

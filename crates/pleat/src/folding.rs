@@ -12,6 +12,7 @@ use serde::Serialize;
 
 use crate::backend::{Backend, CpuBackend};
 use crate::constraint::bending::{dihedral_angle, wrap_angle};
+use crate::fold_steps::HingeTargets;
 use crate::material::Material;
 use crate::mesh::Mesh;
 use crate::metrics::strain::facet_strain;
@@ -56,6 +57,7 @@ impl Model {
         part.paper = Some(Paper {
             hinges: sheet.hinges.clone(),
             stiffness,
+            steps: Vec::new(),
         });
         let particles = part.particles();
         self.mass[particles].fill(PAPER_VERTEX_MASS);
@@ -134,6 +136,18 @@ impl HingeState {
 /// Every hinge of every paper part of `model` at positions `x` and fold
 /// progress `progress`.
 pub fn hinge_states(model: &Model, x: &[Vec3], progress: f32) -> Vec<HingeState> {
+    hinge_states_in_step(model, x, progress, None)
+}
+
+/// As [`hinge_states`], in a step of a fold in steps whose hinges go
+/// between `targets`' start and end angles (the flat sheet and the full
+/// angles where `None`).
+pub fn hinge_states_in_step(
+    model: &Model,
+    x: &[Vec3],
+    progress: f32,
+    targets: Option<&HingeTargets>,
+) -> Vec<HingeState> {
     model
         .cloths
         .iter()
@@ -145,7 +159,10 @@ pub fn hinge_states(model: &Model, x: &[Vec3], progress: f32) -> Vec<HingeState>
                     v,
                     assignment: h.assignment,
                     angle: dihedral_angle(v.map(|i| x[i as usize])).map(|(a, _)| a),
-                    target: full_angle(h).map(|a| a * progress),
+                    target: match targets {
+                        Some(t) => t.target(v, progress),
+                        None => full_angle(h).map(|a| a * progress),
+                    },
                 }
             })
         })
@@ -249,6 +266,19 @@ pub struct FoldMetrics {
     pub worst_hinge: Option<WorstHinge>,
     /// The most strained facet.
     pub worst_facet: Option<WorstFacet>,
+    /// For a fold in steps, the step now folding (`fold_progress` is the
+    /// progress within it) and how many there are; absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fold_step: Option<FoldStepNow>,
+}
+
+/// Where a fold in steps is ([`crate::fold_steps`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct FoldStepNow {
+    /// The step now folding, counted from 1.
+    pub step: usize,
+    /// How many steps the fold has.
+    pub of: usize,
 }
 
 impl FoldMetrics {
@@ -277,13 +307,21 @@ impl FoldMetrics {
             })
             // A NaN strain (a run gone non-finite) counts as the worst.
             .max_by(|a, b| a.strain.total_cmp(&b.strain))?;
-        let states = hinge_states(model, &sim.particles.x, sim.fold_progress());
+        let step = sim.fold_step().map(|(_, t)| t);
+        let states = hinge_states_in_step(model, &sim.particles.x, sim.fold_progress(), step);
         Some(FoldMetrics {
             fold_progress: sim.fold_progress(),
             max_fold_angle_error_deg: FoldAngleErrors::of(&states),
             max_strain: worst_facet.strain,
             worst_hinge: WorstHinge::of(&states),
             worst_facet: Some(worst_facet),
+            fold_step: sim
+                .fold_step()
+                .zip(sim.fold_steps.as_ref())
+                .map(|((k, _), s)| FoldStepNow {
+                    step: k + 1,
+                    of: s.len(),
+                }),
         })
     }
 }

@@ -49,6 +49,7 @@ pub mod collide;
 pub mod constraint;
 pub mod control;
 pub mod export;
+pub mod fold_steps;
 pub mod folding;
 pub mod force;
 pub mod material;

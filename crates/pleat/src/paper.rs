@@ -111,6 +111,10 @@ pub struct Paper {
     pub hinges: Vec<Hinge>,
     /// Compliance of the creases and of the facet hinges.
     pub stiffness: PaperStiffness,
+    /// A fold in steps: per step, each hinge's angle at the step's end
+    /// (radians, valley positive, `None` when undriven; in the order of
+    /// `hinges`). Empty: the part folds in one go ([`crate::fold_steps`]).
+    pub steps: Vec<Vec<Option<f32>>>,
 }
 
 impl Paper {

@@ -5,6 +5,7 @@
 use crate::backend::{Backend, CpuBackend};
 use crate::constraint::{Compliances, FoldDrive, Grab};
 use crate::control::Control;
+use crate::fold_steps::{FoldSteps, HingeTargets};
 use crate::metrics::Metrics;
 use crate::model::Model;
 use crate::paper::FoldRamp;
@@ -33,6 +34,12 @@ pub struct Simulation {
     /// Fold progress animated over the first frames (origami); `None`
     /// leaves it where [`Simulation::set_fold_progress`] put it.
     pub fold_ramp: Option<FoldRamp>,
+    /// A fold in steps ([`crate::fold_steps`]): when set, it drives the
+    /// progress instead of [`Simulation::fold_ramp`], step after step.
+    pub fold_steps: Option<FoldSteps>,
+    /// The step of [`Simulation::fold_steps`] last handed to the backend,
+    /// and its hinges' start and end angles.
+    fold_step: Option<(usize, HingeTargets)>,
     fold_progress: f32,
     /// The fold progress of the last frame stepped (0, the flat sheet,
     /// before the first).
@@ -71,6 +78,8 @@ impl Simulation {
             settings,
             stages: StageTimes::default(),
             fold_ramp: None,
+            fold_steps: None,
+            fold_step: None,
             fold_progress: 0.0,
             stepped_progress: 0.0,
             frames_stepped: 0,
@@ -89,6 +98,9 @@ impl Simulation {
         self.sync();
         self.backend = backend;
         self.backend.upload(&self.particles);
+        if let Some((_, targets)) = &self.fold_step {
+            self.backend.set_hinge_targets(targets);
+        }
     }
 
     /// Rebuilds the CPU solver that [`Simulation::settings`] name (after a
@@ -181,14 +193,24 @@ impl Simulation {
 
     /// Advances by one frame of `frame_dt` seconds.
     pub fn step(&mut self, frame_dt: f32) {
-        if let Some(ramp) = self.fold_ramp {
+        let mut new_step = false;
+        if let Some(steps) = &self.fold_steps {
+            let (step, progress) = steps.at(self.frames_stepped + 1);
+            if self.fold_step.as_ref().map(|s| s.0) != Some(step) {
+                let targets = steps.targets(&self.model, step);
+                self.backend.set_hinge_targets(&targets);
+                self.fold_step = Some((step, targets));
+                new_step = true;
+            }
+            self.set_fold_progress(progress);
+        } else if let Some(ramp) = self.fold_ramp {
             self.set_fold_progress(ramp.at(self.frames_stepped + 1));
         }
         let control = Control {
             frame_dt,
             fold: FoldDrive {
                 progress: self.fold_progress,
-                held: self.stepped_progress == self.fold_progress,
+                held: !new_step && self.stepped_progress == self.fold_progress,
             },
             grab: self.grab,
         };
@@ -218,9 +240,17 @@ impl Simulation {
         self.fold_progress = if c.is_nan() { 0.0 } else { c.clamp(0.0, 1.0) };
     }
 
-    /// The fold progress last set.
+    /// The fold progress last set (within the current step of a fold in
+    /// steps).
     pub fn fold_progress(&self) -> f32 {
         self.fold_progress
+    }
+
+    /// The step of [`Simulation::fold_steps`] now folding (counted from 0)
+    /// and its hinges' start and end angles; `None` before the first frame
+    /// or without steps.
+    pub fn fold_step(&self) -> Option<(usize, &HingeTargets)> {
+        self.fold_step.as_ref().map(|(k, t)| (*k, t))
     }
 
     /// Number of constraints (or springs) the backend projects per iteration.

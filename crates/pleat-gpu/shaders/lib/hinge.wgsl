@@ -1,6 +1,8 @@
 // Origami hinges (crate::constraint::hinge), on an index: the projection
 // and the tracking of the continuous fold angle after each substep. The
-// target is the fold progress (a uniform) times the full angle; driven
+// target goes from the start angle to the full (end) angle as the fold
+// progress (a uniform) goes from 0 to 1 (a fold's step, or the whole fold
+// from flat, start 0: crate::fold_steps); driven
 // creases are stiffening springs while the fold is held, flat hinges
 // linear. The includer binds `hinges` and `hinge_lambda`.
 
@@ -45,9 +47,14 @@ fn solve_hinge(j: u32) {
     if !d.ok {
         return;
     }
-    let target_angle = clamp(params.progress * h.full_angle, -MAX_TARGET_ANGLE, MAX_TARGET_ANGLE);
+    let target_angle = clamp(
+        h.start_angle + params.progress * (h.full_angle - h.start_angle),
+        -MAX_TARGET_ANGLE,
+        MAX_TARGET_ANGLE,
+    );
     let error = unwrap_angle(h.angle, d.phi) - target_angle;
-    if h.full_angle == 0.0 || params.fold_held == 0u {
+    let driven = h.full_angle != 0.0 || h.start_angle != 0.0;
+    if !driven || params.fold_held == 0u {
         hinge_lambda[j] = project_four(h.v, alpha_of(h.compliance, h.slot), error, d, hinge_lambda[j]);
         return;
     }

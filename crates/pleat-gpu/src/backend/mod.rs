@@ -77,6 +77,10 @@ pub struct GpuBackend {
     /// strain limits for a held fold and a moving one (paper's give while
     /// it moves); `None` where the two are the same.
     fold_limits: Option<(FoldLimits, Vec<DistanceConstraint>)>,
+    /// The hinges as the items buffer holds them, less their tracked
+    /// angles, which live on the GPU alone: a fold's step rewrites only
+    /// their start and end angles ([`GpuBackend::set_hinge_targets`]).
+    hinges: Vec<pleat::constraint::OrigamiHinge>,
     /// A small sheet's frame in one dispatch, where the model allows it.
     persistent: Option<persistent::Persistent>,
     /// Whether frames may take the persistent kernel (the default).
@@ -178,5 +182,9 @@ impl Backend for GpuBackend {
 
     fn upload(&mut self, particles: &Particles) {
         self.upload_state(particles);
+    }
+
+    fn set_hinge_targets(&mut self, targets: &pleat::fold_steps::HingeTargets) {
+        self.write_hinge_targets(targets);
     }
 }

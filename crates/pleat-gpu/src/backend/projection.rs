@@ -75,6 +75,9 @@ pub(super) struct Projection {
     pub(super) free_parts: Vec<std::ops::Range<usize>>,
     /// See [`super::GpuBackend`]'s `fold_limits`; none for Jacobi.
     pub(super) fold_limits: Option<(FoldLimits, Vec<DistanceConstraint>)>,
+    /// The hinges as the items buffer holds them (their tracked angles as
+    /// built); none for Jacobi.
+    pub(super) hinges: Vec<pleat::constraint::OrigamiHinge>,
 }
 
 /// XPBD: the hierarchy's levels, then hinges, distances, bending,
@@ -136,6 +139,7 @@ pub(super) fn xpbd_projection(
             .fold_limits
             .differ()
             .then(|| (c.fold_limits.clone(), c.distance.items().to_vec())),
+        hinges: c.hinges.items().to_vec(),
     })
 }
 
@@ -220,6 +224,7 @@ pub(super) fn jacobi_projection(
         distance_colours: Vec::new(),
         free_parts: Vec::new(),
         fold_limits: None,
+        hinges: Vec::new(),
     })
 }
 

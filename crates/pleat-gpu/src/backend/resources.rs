@@ -240,6 +240,35 @@ impl GpuBackend {
         }
     }
 
+    /// Gives the hinges the start and end angles of a fold's step: writes
+    /// each changed hinge's `full_angle` and `start_angle` (side by side)
+    /// into the items buffer, leaving the tracked `angle` the GPU keeps.
+    pub(super) fn write_hinge_targets(&mut self, targets: &pleat::fold_steps::HingeTargets) {
+        use pleat::constraint::OrigamiHinge;
+        const FULL: usize = std::mem::offset_of!(OrigamiHinge, full_angle);
+        const START: usize = std::mem::offset_of!(OrigamiHinge, start_angle);
+        const _: () = assert!(START == FULL + 4, "start_angle must follow full_angle");
+        let Some(buffer) = self
+            .buffers
+            .constraints
+            .iter()
+            .find(|c| c.kind == ConstraintKind::Hinge)
+        else {
+            return;
+        };
+        let size = std::mem::size_of::<OrigamiHinge>();
+        for (i, h) in self.hinges.iter_mut().enumerate() {
+            if targets.apply(h) {
+                let bytes = [h.full_angle, h.start_angle];
+                self.context.queue.write_buffer(
+                    &buffer.items,
+                    (i * size + FULL) as u64,
+                    bytemuck::cast_slice(&bytes),
+                );
+            }
+        }
+    }
+
     /// The backend for `model` in `world` on `context`'s device, and notes
     /// for the user (mesh colliders baked into distance fields). Refuses
     /// what the GPU backend does not have yet, naming the scene field.
@@ -290,6 +319,7 @@ impl GpuBackend {
             constraint_count,
             free_parts,
             fold_limits,
+            hinges,
         } = projection;
         let free_part_ranges = free_parts;
         let free_parts: Vec<(u32, u32)> = free_part_ranges
@@ -442,6 +472,7 @@ impl GpuBackend {
             hard_pins,
             soft_pins,
             fold_limits,
+            hinges,
             persistent,
             persistent_allowed: true,
             dispatches: 0,

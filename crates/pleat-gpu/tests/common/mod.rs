@@ -43,12 +43,7 @@ pub fn gpu_with(scene: &Scene, persistent: bool) -> Simulation {
     let (model, world) = scene.model(scenes_dir(), "test scene").unwrap();
     let (mut backend, _) = GpuBackend::new(context(), &model, &world, &scene.solver).unwrap();
     backend.allow_persistent(persistent);
-    let folds = model.cloths.iter().any(|c| c.paper.is_some());
-    let mut sim = Simulation::with_backend(model, world, scene.solver, Box::new(backend));
-    if folds {
-        sim.fold_ramp = Some(scene.fold.unwrap_or_default().ramp());
-    }
-    sim
+    scene.simulation(model, world, Box::new(backend))
 }
 
 /// Steps `sim` for `frames` frames of the scene's frame time, without

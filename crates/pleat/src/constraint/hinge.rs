@@ -1,6 +1,10 @@
 //! Origami hinge: the dihedral fold angle of a triangle pair driven to a
-//! target, `C = phi - target`, with `target = c * full_angle` for the fold
-//! progress `c` of the step's [`FoldDrive`], capped at [`MAX_TARGET_ANGLE`].
+//! target, `C = phi - target`, with
+//! `target = start_angle + c * (full_angle - start_angle)` for the fold
+//! progress `c` of the step's [`FoldDrive`], capped at [`MAX_TARGET_ANGLE`]. A fold in one go starts flat
+//! (`start_angle` 0, so the target is `c * full_angle`); a fold in steps
+//! ([`crate::fold_steps`]) rewrites both angles at each step, the
+//! progress running from 0 to 1 within the step.
 //!
 //! The angle and its exact gradient are those of dihedral bending
 //! ([`dihedral_angle_simd`], valley positive). `atan2` wraps at +-pi, so a
@@ -57,8 +61,14 @@ const MAX_TRACKED_ANGLE: f32 = 1.25 * PI;
 pub struct OrigamiHinge {
     /// Shared edge `v[0], v[1]`, wings `v[2]`, `v[3]` (see [`crate::mesh::TrianglePair`]).
     pub v: [u32; 4],
-    /// Fold angle at full progress `c = 1` (radians, valley positive).
+    /// Fold angle at full progress `c = 1` (radians, valley positive): the
+    /// end of the fold, or of its current step.
     pub full_angle: f32,
+    /// Fold angle at progress `c = 0` (radians, valley positive): 0 for a
+    /// fold from the flat sheet, the previous step's end for a fold in
+    /// steps. Beside `full_angle`, so that a backend can rewrite the two at
+    /// once without touching the tracked `angle`.
+    pub start_angle: f32,
     /// Inverse stiffness (rad^2 / J), a factor of the table entry `slot`.
     pub compliance: f32,
     /// Continuous fold angle at the end of the last substep (radians, may
@@ -75,6 +85,7 @@ impl OrigamiHinge {
         let mut hinge = OrigamiHinge {
             v,
             full_angle,
+            start_angle: 0.0,
             compliance,
             angle: 0.0,
             slot: 0,
@@ -85,7 +96,19 @@ impl OrigamiHinge {
 
     /// `c * full_angle`, capped at [`MAX_TARGET_ANGLE`] either way.
     pub fn target(full_angle: f32, c: f32) -> f32 {
-        (c * full_angle).clamp(-MAX_TARGET_ANGLE, MAX_TARGET_ANGLE)
+        Self::target_between(0.0, full_angle, c)
+    }
+
+    /// `start + c * (end - start)`, capped at [`MAX_TARGET_ANGLE`] either way.
+    pub fn target_between(start: f32, end: f32, c: f32) -> f32 {
+        (start + c * (end - start)).clamp(-MAX_TARGET_ANGLE, MAX_TARGET_ANGLE)
+    }
+
+    /// Whether the hinge is a driven crease (stiffened while held): one
+    /// whose start or end angle is not flat.
+    #[inline]
+    pub fn driven(&self) -> bool {
+        self.full_angle != 0.0 || self.start_angle != 0.0
     }
 
     /// The continuous angle for an `atan2` reading `phi`: the branch
@@ -110,7 +133,8 @@ impl OrigamiHinge {
     /// while the fold is held ([`stiffened_error`]).
     #[inline]
     pub fn evaluate(&self, p: [Vec3A; 4], fold: FoldDrive) -> Option<(f32, [Vec3A; 4])> {
-        self.evaluate_to(p, Self::target(self.full_angle, fold.progress), fold.held)
+        let target = Self::target_between(self.start_angle, self.full_angle, fold.progress);
+        self.evaluate_to(p, target, fold.held)
     }
 
     /// `C` and its gradient for the hinge driven to `target`, stiffened
@@ -119,7 +143,7 @@ impl OrigamiHinge {
     pub fn evaluate_to(&self, p: [Vec3A; 4], target: f32, held: bool) -> Option<(f32, [Vec3A; 4])> {
         dihedral_angle_simd(p).map(|(phi, grad)| {
             let error = self.unwrap(phi) - target;
-            if self.full_angle == 0.0 || !held {
+            if !self.driven() || !held {
                 return (error, grad);
             }
             let (c, slope) = stiffened_error(error);

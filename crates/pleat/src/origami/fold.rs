@@ -150,6 +150,138 @@ fn take_fold_angle(edge: &mut PatternEdge, dihedral: Dihedral) {
     }
 }
 
+/// The steps of a multi-frame FOLD file (`file_frames`) for `pattern`, the
+/// crease pattern its key frame gives ([`parse_fold`]): per frame after the
+/// key frame, in order, each edge's fold angle at the end of that step
+/// (degrees, signed as [`PatternEdge::fold_angle`]: mountains and valleys
+/// take the sign of their assignment; `null` is the full fold). A frame
+/// takes its `edges_foldAngle`, or inherits it (`frame_inherit` true) from
+/// its `frame_parent` (0 the key frame, `i` the frame `file_frames[i - 1]`);
+/// the frames' other keys are ignored. Empty when the file has no
+/// `file_frames`. Errors name the frame's JSON path.
+pub fn parse_fold_frames(
+    text: &str,
+    pattern: &CreasePattern,
+) -> Result<Vec<Vec<Option<f64>>>, PatternError> {
+    let root: Value = serde_json::from_str(text).map_err(json_syntax_error)?;
+    let Some(root) = root.as_object() else {
+        return Err(PatternError::new("top level", "expected a JSON object"));
+    };
+    let Some(frames) = root.get("file_frames") else {
+        return Ok(Vec::new());
+    };
+    let frames = expect_array(frames, "file_frames")?;
+    let mut objects = Vec::with_capacity(frames.len());
+    for (i, frame) in frames.iter().enumerate() {
+        objects.push(frame.as_object().ok_or_else(|| {
+            PatternError::new(
+                format!("file_frames[{i}]"),
+                format!("expected an object, found {}", kind(frame)),
+            )
+        })?);
+    }
+    (0..objects.len())
+        .map(|i| {
+            let (path, value) = frame_fold_angles(root, &objects, i)?;
+            step_angles(value, &path, pattern)
+        })
+        .collect()
+}
+
+/// The `edges_foldAngle` frame `file_frames[i]` has or inherits, and its
+/// JSON path.
+fn frame_fold_angles<'a>(
+    root: &'a Map<String, Value>,
+    frames: &[&'a Map<String, Value>],
+    i: usize,
+) -> Result<(String, &'a Value), PatternError> {
+    let mut id = i + 1;
+    // Each step up goes to another frame; more steps than frames is a cycle.
+    for _ in 0..=frames.len() {
+        let (frame, path) = if id == 0 {
+            (root, String::new())
+        } else {
+            (frames[id - 1], format!("file_frames[{}].", id - 1))
+        };
+        if let Some(value) = frame.get("edges_foldAngle") {
+            return Ok((format!("{path}edges_foldAngle"), value));
+        }
+        let here = format!("file_frames[{}]", id - 1);
+        if id == 0 || frame.get("frame_inherit") != Some(&Value::Bool(true)) {
+            return Err(PatternError::new(
+                format!("file_frames[{i}]"),
+                if id == i + 1 {
+                    "a step needs edges_foldAngle, or frame_inherit from a frame that has it"
+                        .to_string()
+                } else {
+                    format!(
+                        "inherits no edges_foldAngle: {} has none and inherits none",
+                        if id == 0 {
+                            "the key frame".to_string()
+                        } else {
+                            here
+                        }
+                    )
+                },
+            ));
+        }
+        let parent = match frame.get("frame_parent") {
+            None => 0,
+            Some(value) => value
+                .as_u64()
+                .filter(|&p| (p as usize) <= frames.len())
+                .ok_or_else(|| {
+                    PatternError::new(
+                        format!("{here}.frame_parent"),
+                        format!(
+                            "expected a frame index from 0 (the key frame) to {}, found {value}",
+                            frames.len()
+                        ),
+                    )
+                })? as usize,
+        };
+        id = parent;
+    }
+    Err(PatternError::new(
+        format!("file_frames[{i}].frame_parent"),
+        "the frames inherit from one another in a cycle",
+    ))
+}
+
+/// One step's edge angles from an `edges_foldAngle` at `path`.
+fn step_angles(
+    value: &Value,
+    path: &str,
+    pattern: &CreasePattern,
+) -> Result<Vec<Option<f64>>, PatternError> {
+    let list = expect_array(value, path)?;
+    if list.len() != pattern.edges.len() {
+        return Err(PatternError::new(
+            path,
+            format!(
+                "has {} entries, but edges_vertices has {}",
+                list.len(),
+                pattern.edges.len()
+            ),
+        ));
+    }
+    list.iter()
+        .zip(&pattern.edges)
+        .enumerate()
+        .map(|(e, (value, edge))| {
+            let path = format!("{path}[{e}]");
+            let angle = fold_angle(value, &path, edge.assignment)?;
+            if angle.is_some_and(|a| !(-180.0..=180.0).contains(&a)) {
+                return Err(PatternError::new(
+                    path,
+                    "must be between -180 and 180 degrees",
+                ));
+            }
+            Ok(angle)
+        })
+        .collect()
+}
+
 fn json_syntax_error(e: serde_json::Error) -> PatternError {
     let message = e.to_string();
     let suffix = format!(" at line {} column {}", e.line(), e.column());

@@ -38,6 +38,24 @@ pub fn parse_pattern(
     parse_by_extension(&extension_of(Path::new(name)), bytes).map_err(|e| e.with_file(name))
 }
 
+/// The steps of a crease pattern's file (`name`'s extension chooses: only
+/// a multi-frame FOLD file has any, [`fold::parse_fold_frames`]) for the
+/// `pattern` read from it: per step, each edge's fold angle at its end.
+/// Errors name `name`.
+pub fn parse_pattern_steps(
+    name: &str,
+    bytes: &[u8],
+    pattern: &CreasePattern,
+) -> Result<Vec<Vec<Option<f64>>>, PatternError> {
+    if extension_of(Path::new(name)) != "fold" {
+        return Ok(Vec::new());
+    }
+    let text = std::str::from_utf8(bytes).map_err(|e| {
+        PatternError::new(format!("byte {}", e.valid_up_to()), "not valid UTF-8 text")
+    })?;
+    fold::parse_fold_frames(text, pattern).map_err(|e| e.with_file(name))
+}
+
 fn extension_of(path: &Path) -> String {
     path.extension()
         .and_then(|e| e.to_str())

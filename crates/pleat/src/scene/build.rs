@@ -2,19 +2,24 @@
 //! built or loaded, pins resolved to vertices, colliders placed.
 
 use super::{
-    BodySpec, ClothSpec, ColliderSpec, Corner, FileError, MeshSpec, MotionSpec, PatternMeshSpec,
-    PinSpec, Scene, SceneError, SceneErrors, SceneFiles, ShapeSpec, Side,
+    BodySpec, ClothSpec, ColliderSpec, Corner, CreaseSelection, FileError, FoldSpec, FoldStepSpec,
+    MeshSpec, MotionSpec, PatternMeshSpec, PinSpec, Scene, SceneError, SceneErrors, SceneFiles,
+    ShapeSpec, Side,
 };
 use crate::backend::{Backend, CpuBackend};
 use crate::collide::rigid_body::{mesh_samples, sample_points};
 use crate::collide::{
     Collider, MassError, MassProperties, MeshCollider, Motion, RigidBody, SdfError, SdfGrid, Shape,
 };
+use crate::fold_steps::{sheet_step_angles, FoldSteps};
 use crate::mesh::obj::{parse_obj, ObjError};
 use crate::mesh::{GridSpec, Mesh};
 use crate::metrics::intersections::count_self_intersections;
 use crate::model::{Model, Pin};
-use crate::origami::{builtin, parse_pattern, PatternError, Sheet, SheetOptions};
+use crate::origami::{
+    builtin, parse_pattern, parse_pattern_steps, Assignment, CreasePattern, PatternError, Sheet,
+    SheetOptions,
+};
 use crate::simulation::Simulation;
 use crate::world::World;
 use glam::{EulerRot, Quat, Vec3};
@@ -47,7 +52,9 @@ impl Scene {
         let folds = model.cloths.iter().any(|c| c.paper.is_some());
         let mut sim = Simulation::with_backend(model, world, self.solver, backend);
         if folds {
-            sim.fold_ramp = Some(self.fold.unwrap_or_default().ramp());
+            let fold = self.fold.clone().unwrap_or_default();
+            sim.fold_ramp = Some(fold.ramp());
+            sim.fold_steps = FoldSteps::of_model(&sim.model, &fold.step_frames());
         }
         sim
     }
@@ -71,10 +78,17 @@ impl Scene {
             } else {
                 cloth.name.clone()
             };
-            if let Err((sub, reason)) = add_cloth(&mut model, &name, cloth, files) {
+            if let Err((sub, reason)) =
+                add_cloth(&mut model, &name, cloth, self.fold.as_ref(), files)
+            {
                 errors.push(SceneError {
                     file: file.into(),
-                    path: format!("cloths[{i}].{sub}"),
+                    // Errors of the scene's fold steps name their own path.
+                    path: if sub.starts_with("fold.") {
+                        sub
+                    } else {
+                        format!("cloths[{i}].{sub}")
+                    },
                     reason: reason.to_string(),
                 });
             }
@@ -132,6 +146,9 @@ enum BuildError {
     /// A dynamic collider could not be weighed.
     #[error(transparent)]
     Mass(#[from] MassError),
+    /// A scene's fold steps do not fit a pattern.
+    #[error("{0}")]
+    Steps(String),
     /// `stiffness_weights` does not give one weight a vertex.
     #[error("has {given} weights, the mesh has {vertices} vertices")]
     WeightCount { given: usize, vertices: usize },
@@ -181,13 +198,33 @@ fn add_cloth(
     model: &mut Model,
     name: &str,
     cloth: &ClothSpec,
+    fold: Option<&FoldSpec>,
     files: &dyn SceneFiles,
 ) -> Result<(), ClothError> {
     let (mesh, grid) = match &cloth.mesh {
         MeshSpec::Pattern(spec) => {
-            let sheet =
-                pattern_sheet(spec, files).map_err(|e| ("mesh.pattern".to_string(), e.into()))?;
+            let in_pattern = |e: PatternError| ("mesh.pattern".to_string(), e.into());
+            let (sheet, pattern, file_steps, options) =
+                pattern_sheet(spec, files).map_err(in_pattern)?;
+            let scene_steps = fold.map_or(&[][..], |f| f.steps.as_slice());
+            let steps = match (scene_steps.is_empty(), file_steps.is_empty()) {
+                (true, _) => file_steps,
+                (false, true) => scene_step_angles(&pattern, scene_steps)?,
+                (false, false) => {
+                    return Err((
+                        "fold.steps".to_string(),
+                        BuildError::Steps(format!(
+                            "the pattern of cloth '{name}' has steps of its own (a multi-frame FOLD file): give one or the other"
+                        )),
+                    ))
+                }
+            };
+            let steps =
+                sheet_step_angles(&pattern, &options, &sheet, &steps).map_err(in_pattern)?;
             model.add_paper(name, &sheet, cloth.material, spec.stiffness);
+            if let Some(paper) = model.cloths.last_mut().and_then(|c| c.paper.as_mut()) {
+                paper.steps = steps;
+            }
             return Ok(());
         }
         MeshSpec::Grid(g) => {
@@ -216,15 +253,85 @@ fn add_cloth(
         .map_err(|reason| ("stiffness_weights".to_string(), reason))
 }
 
-/// The sheet of a pattern cloth, placed at its centre.
-fn pattern_sheet(spec: &PatternMeshSpec, files: &dyn SceneFiles) -> Result<Sheet, PatternError> {
+/// Each step's edge angles (degrees, signed) from a scene's `fold.steps`:
+/// the creases a step names go to its fraction of their full angle, the
+/// others hold where the step before left them (flat before the first).
+fn scene_step_angles(
+    pattern: &CreasePattern,
+    steps: &[FoldStepSpec],
+) -> Result<Vec<Vec<Option<f64>>>, ClothError> {
+    let full = |e: usize| {
+        let edge = &pattern.edges[e];
+        let sign = edge.assignment.fold_sign()?;
+        Some(sign * edge.fold_angle.map_or(180.0, f64::abs))
+    };
+    let mut fraction = vec![0.0f64; pattern.edges.len()];
+    let mut out = Vec::with_capacity(steps.len());
+    for (k, step) in steps.iter().enumerate() {
+        let chosen: Vec<usize> = match &step.creases {
+            CreaseSelection::Kind(kind) => {
+                let wanted = |a: Assignment| match kind.as_str() {
+                    "M" => a == Assignment::Mountain,
+                    "V" => a == Assignment::Valley,
+                    _ => a.fold_sign().is_some(),
+                };
+                (0..pattern.edges.len())
+                    .filter(|&e| wanted(pattern.edges[e].assignment))
+                    .collect()
+            }
+            CreaseSelection::Edges(edges) => {
+                for (j, &e) in edges.iter().enumerate() {
+                    let path = format!("fold.steps[{k}].creases[{j}]");
+                    let reason = match pattern.edges.get(e) {
+                        None => format!(
+                            "edge {e} does not exist: the pattern has {} edges",
+                            pattern.edges.len()
+                        ),
+                        Some(edge) if edge.assignment.fold_sign().is_none() => format!(
+                            "edge {e} is not a crease (its assignment is {:?}): only mountains and valleys fold",
+                            edge.assignment
+                        ),
+                        Some(_) => continue,
+                    };
+                    return Err((path, BuildError::Steps(reason)));
+                }
+                edges.clone()
+            }
+        };
+        for e in chosen {
+            fraction[e] = step.fraction as f64;
+        }
+        out.push(
+            (0..pattern.edges.len())
+                .map(|e| full(e).map(|a| a * fraction[e]))
+                .collect(),
+        );
+    }
+    Ok(out)
+}
+
+/// A pattern cloth's sheet, its pattern, its file's steps (each edge's
+/// angle at each step's end) and the options it was triangulated with.
+type PatternSheet = (Sheet, CreasePattern, Vec<Vec<Option<f64>>>, SheetOptions);
+
+/// The sheet of a pattern cloth, placed at its centre, the pattern it is
+/// made of, the steps of the pattern's file (each edge's angle at each
+/// step's end; none but for a multi-frame FOLD file) and the options it
+/// was triangulated with.
+fn pattern_sheet(
+    spec: &PatternMeshSpec,
+    files: &dyn SceneFiles,
+) -> Result<PatternSheet, PatternError> {
+    let mut steps = Vec::new();
     let pattern = match (&spec.path, &spec.builtin) {
         (Some(path), _) => {
             let name = files.display(path);
             let bytes = files
                 .read(path)
                 .map_err(|e| PatternError::new("", e.to_string()).with_file(name.clone()))?;
-            parse_pattern(&name, &bytes)?.0
+            let pattern = parse_pattern(&name, &bytes)?.0;
+            steps = parse_pattern_steps(&name, &bytes, &pattern)?;
+            pattern
         }
         (None, Some(name)) => builtin(name)
             .ok_or_else(|| PatternError::new("builtin", format!("unknown pattern '{name}'")))?,
@@ -239,7 +346,7 @@ fn pattern_sheet(spec: &PatternMeshSpec, files: &dyn SceneFiles) -> Result<Sheet
     for p in &mut sheet.positions {
         *p += spec.center;
     }
-    Ok(sheet)
+    Ok((sheet, pattern, steps, options))
 }
 
 /// Resolves pin groups to cloth-local vertices (each vertex pinned once, first group wins).

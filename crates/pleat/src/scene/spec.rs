@@ -118,15 +118,23 @@ fn default_light_color() -> [f32; 3] {
 }
 
 /// The fold progress of a scene's pattern cloths: ramped linearly from 0
-/// to `progress` over the first `frames_to_fold` frames, then held.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+/// to `progress` over the first `frames_to_fold` frames, then held; or,
+/// with `steps` (or a pattern file with steps of its own, a multi-frame
+/// FOLD file), folded step after step ([`crate::fold_steps`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct FoldSpec {
     /// Fold progress in `[0, 1]`: each crease folds to this fraction of its
-    /// full angle.
+    /// full angle (a fold in one go; not read with steps).
     pub progress: f32,
     /// Frames over which the progress rises from 0; 0 sets it at once.
+    /// With steps: the frames of each step that gives none.
     pub frames_to_fold: u32,
+    /// A fold in steps, one after another: each moves some creases to a
+    /// fraction of their full angle, the others holding where the step
+    /// before left them (flat before the first).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub steps: Vec<FoldStepSpec>,
 }
 
 impl Default for FoldSpec {
@@ -134,8 +142,41 @@ impl Default for FoldSpec {
         FoldSpec {
             progress: 1.0,
             frames_to_fold: 120,
+            steps: Vec::new(),
         }
     }
+}
+
+/// One step of a scene's fold in steps.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FoldStepSpec {
+    /// Which creases the step moves: `"all"`, `"M"` (the mountains), `"V"`
+    /// (the valleys), or a list of the pattern's edge indices (the order
+    /// of a FOLD file's `edges_vertices`, of a .cp file's lines).
+    pub creases: CreaseSelection,
+    /// The fraction of their full angle the creases reach at the step's
+    /// end, in `[0, 1]`; default 1.
+    #[serde(default = "unit_fraction")]
+    pub fraction: f32,
+    /// Frames of the step (at least 1); default `frames_to_fold`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frames: Option<u32>,
+}
+
+fn unit_fraction() -> f32 {
+    1.0
+}
+
+/// The creases a step moves: by kind (`"all"`, `"M"`, `"V"`) or by edge
+/// index.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum CreaseSelection {
+    /// `"all"`, `"M"` or `"V"`.
+    Kind(String),
+    /// The pattern's edge indices.
+    Edges(Vec<usize>),
 }
 
 impl FoldSpec {
@@ -146,6 +187,18 @@ impl FoldSpec {
             progress: self.progress,
             frames: self.frames_to_fold,
         }
+    }
+
+    /// The frames of each of `steps` (the pattern's own steps where
+    /// `steps` is empty: `frames_to_fold` each).
+    pub fn step_frames(&self) -> Vec<u32> {
+        if self.steps.is_empty() {
+            return vec![self.frames_to_fold];
+        }
+        self.steps
+            .iter()
+            .map(|s| s.frames.unwrap_or(self.frames_to_fold))
+            .collect()
     }
 }
 

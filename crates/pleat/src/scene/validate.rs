@@ -2,8 +2,8 @@
 //! densities, zero radii. Every error found is reported, each with its path.
 
 use super::{
-    BodySpec, ClothSpec, ColliderSpec, FoldSpec, MeshSpec, MotionSpec, PatternMeshSpec, RenderSpec,
-    Scene, SceneError, ShapeSpec,
+    BodySpec, ClothSpec, ColliderSpec, CreaseSelection, FoldSpec, MeshSpec, MotionSpec,
+    PatternMeshSpec, RenderSpec, Scene, SceneError, ShapeSpec,
 };
 use crate::collide::SelfCollision;
 use crate::force::Wind;
@@ -238,6 +238,29 @@ impl Validator<'_> {
             "fold.progress",
             &format!("must be between 0 and 1, got {}", f.progress),
         );
+        for (k, step) in f.steps.iter().enumerate() {
+            let path = format!("fold.steps[{k}]");
+            self.check(
+                (0.0..=1.0).contains(&step.fraction),
+                &format!("{path}.fraction"),
+                &format!("must be between 0 and 1, got {}", step.fraction),
+            );
+            let frames = step.frames.unwrap_or(f.frames_to_fold);
+            self.check(
+                frames >= 1,
+                &format!("{path}.frames"),
+                "a step needs at least 1 frame (frames, or fold.frames_to_fold where it gives none)",
+            );
+            if let CreaseSelection::Kind(kind) = &step.creases {
+                self.check(
+                    matches!(kind.as_str(), "all" | "M" | "V"),
+                    &format!("{path}.creases"),
+                    &format!(
+                        "expected \"all\", \"M\", \"V\" or a list of edge indices, got \"{kind}\""
+                    ),
+                );
+            }
+        }
     }
 
     /// Spring constants, PBD stiffness factors and the stiffness gradient.

@@ -177,6 +177,10 @@ pub trait Solver: Send {
     /// Takes the live compliance table for the next step; solvers without
     /// compliances ignore it.
     fn set_compliances(&mut self, _compliances: &Compliances) {}
+
+    /// Gives the origami hinges the start and end angles of a fold's step
+    /// ([`crate::fold_steps`]); solvers without hinges ignore it.
+    fn set_hinge_targets(&mut self, _targets: &crate::fold_steps::HingeTargets) {}
 }
 
 /// Builds the solver that `settings` name for `model`.

@@ -173,6 +173,14 @@ impl FoldLimits {
 }
 
 impl XpbdConstraints {
+    /// Gives the hinges the start and end angles of a fold's step
+    /// ([`crate::fold_steps`]), keeping their tracked angles.
+    pub fn set_hinge_targets(&mut self, targets: &crate::fold_steps::HingeTargets) {
+        self.hinges.update(|_, h| {
+            targets.apply(h);
+        });
+    }
+
     /// Builds and colours the constraints of every cloth of `model`.
     pub fn new(model: &Model) -> Self {
         let n = model.particle_count();
@@ -405,6 +413,10 @@ impl super::Solver for Xpbd {
 
     fn set_compliances(&mut self, compliances: &Compliances) {
         compliances.write_to(&mut self.compliances);
+    }
+
+    fn set_hinge_targets(&mut self, targets: &crate::fold_steps::HingeTargets) {
+        self.constraints.set_hinge_targets(targets);
     }
 
     fn step(

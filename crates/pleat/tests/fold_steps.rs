@@ -1,0 +1,247 @@
+//! Folding in steps: a multi-frame FOLD file and a scene's `fold.steps`
+//! fold step after step, creases folded in an earlier step stay folded,
+//! the two forms of the same steps fold alike, and bad steps are refused
+//! with the JSON path and the reason.
+
+use pleat::folding::hinge_states;
+use pleat::origami::{parse_fold, parse_fold_frames, Assignment};
+use pleat::scene::{InMemory, Scene};
+use pleat::Simulation;
+
+/// A 3 x 1 strip with two valleys across it, at x = 1 (edge 8, crease A)
+/// and x = 2 (edge 9, crease B); `frames` is the file's `file_frames`.
+fn strip(frames: &str) -> String {
+    format!(
+        r#"{{ "file_spec": 1.1,
+        "vertices_coords": [[0,0],[1,0],[2,0],[3,0],[3,1],[2,1],[1,1],[0,1]],
+        "edges_vertices": [[0,1],[1,2],[2,3],[3,4],[4,5],[5,6],[6,7],[7,0],[1,6],[2,5]],
+        "edges_assignment": ["B","B","B","B","B","B","B","B","V","V"]
+        {frames} }}"#
+    )
+}
+
+/// Crease A to 90 degrees in the first step, then B to 90, A held.
+const TWO_STEPS: &str = r#", "file_frames": [
+    { "edges_foldAngle": [0,0,0,0,0,0,0,0,90,0] },
+    { "frame_inherit": true, "frame_parent": 0,
+      "edges_foldAngle": [0,0,0,0,0,0,0,0,90,90] } ]"#;
+
+fn scene(fold: &str) -> String {
+    format!(
+        r#"{{ "name": "strip", "frames": 1, "fps": 60, "gravity": [0, 0, 0],
+        "solver": {{ "substeps": 40, "damping": 10 }},
+        "cloths": [ {{ "mesh": {{ "pattern": {{ "path": "strip.fold", "size": 1.0 }} }},
+                      "material": {{ "density": 0.08, "thickness": 0.0 }} }} ],
+        "fold": {fold} }}"#
+    )
+}
+
+fn build(scene_text: &str, fold_file: &str) -> Result<Simulation, String> {
+    let scene = Scene::parse(scene_text, "steps.json").map_err(|e| e.to_string())?;
+    let mut files = InMemory::default();
+    files.insert("strip.fold", fold_file.as_bytes().to_vec());
+    scene
+        .build_with(&files, "steps.json")
+        .map_err(|e| e.to_string())
+}
+
+/// The fold angles of creases A and B now (degrees).
+fn creases(sim: &Simulation) -> [f32; 2] {
+    let mut valleys: Vec<(f32, f32)> = hinge_states(&sim.model, &sim.particles.x, 1.0)
+        .into_iter()
+        .filter(|s| s.assignment == Assignment::Valley)
+        .map(|s| {
+            let x = sim.model.rest[s.v[0] as usize].x;
+            (x, s.angle.unwrap().to_degrees())
+        })
+        .collect();
+    valleys.sort_by(|a, b| a.0.total_cmp(&b.0));
+    assert_eq!(valleys.len(), 2, "{valleys:?}");
+    [valleys[0].1, valleys[1].1]
+}
+
+fn run(sim: &mut Simulation, frames: u32) {
+    for _ in 0..frames {
+        sim.step(1.0 / 60.0);
+    }
+}
+
+#[test]
+fn steps_fold_in_order_and_earlier_creases_stay_folded() {
+    let mut sim = build(&scene(r#"{ "frames_to_fold": 60 }"#), &strip(TWO_STEPS)).unwrap();
+    assert_eq!(sim.fold_steps.as_ref().unwrap().frames, [60, 60]);
+    run(&mut sim, 60);
+    assert_eq!(sim.fold_step().unwrap().0, 0);
+    let [a, b] = creases(&sim);
+    assert!((a - 90.0).abs() < 5.0, "after step 1, A at {a}");
+    assert!(b.abs() < 5.0, "after step 1, B at {b} (should be flat)");
+    run(&mut sim, 90);
+    assert_eq!(sim.fold_step().unwrap().0, 1);
+    let [a, b] = creases(&sim);
+    assert!((a - 90.0).abs() < 5.0, "after step 2, A at {a} (unfolded?)");
+    assert!((b - 90.0).abs() < 5.0, "after step 2, B at {b}");
+    assert!(!sim.metrics().nan);
+    let m = pleat::folding::FoldMetrics::measure(&sim).unwrap();
+    assert!(m.max_fold_angle_error_deg.valley < 5.0, "{m:?}");
+}
+
+#[test]
+fn the_scene_form_and_the_fold_form_fold_alike() {
+    let mut from_file = build(&scene(r#"{ "frames_to_fold": 30 }"#), &strip(TWO_STEPS)).unwrap();
+    let steps = r#"{ "frames_to_fold": 30, "steps": [
+        { "creases": [8], "fraction": 0.5 },
+        { "creases": [9], "fraction": 0.5 } ] }"#;
+    let mut from_scene = build(&scene(steps), &strip("")).unwrap();
+    assert_eq!(from_file.fold_steps, from_scene.fold_steps);
+    run(&mut from_file, 80);
+    run(&mut from_scene, 80);
+    let err = from_file
+        .particles
+        .x
+        .iter()
+        .zip(&from_scene.particles.x)
+        .map(|(a, b)| a.distance(*b))
+        .fold(0.0, f32::max);
+    assert!(err < 1e-6, "the two forms differ by {err}");
+    let [a, b] = creases(&from_scene);
+    assert!(a > 45.0 && b > 45.0, "{a} {b}");
+}
+
+#[test]
+fn a_step_by_kind_moves_the_creases_of_that_kind() {
+    let steps = r#"{ "frames_to_fold": 30, "steps": [
+        { "creases": "V", "fraction": 0.25 },
+        { "creases": "all", "fraction": 0.5, "frames": 40 } ] }"#;
+    let mut sim = build(&scene(steps), &strip("")).unwrap();
+    assert_eq!(sim.fold_steps.as_ref().unwrap().frames, [30, 40]);
+    run(&mut sim, 30);
+    let [a, b] = creases(&sim);
+    assert!((a - 45.0).abs() < 5.0 && (b - 45.0).abs() < 5.0, "{a} {b}");
+    run(&mut sim, 60);
+    let [a, b] = creases(&sim);
+    assert!((a - 90.0).abs() < 5.0 && (b - 90.0).abs() < 5.0, "{a} {b}");
+}
+
+#[test]
+fn frames_inherit_their_parents_angles() {
+    let text = strip(
+        r#", "edges_foldAngle": [0,0,0,0,0,0,0,0,30,40],
+        "file_frames": [
+        { "frame_inherit": true },
+        { "frame_inherit": true, "frame_parent": 1 },
+        { "edges_foldAngle": [0,0,0,0,0,0,0,0,-90,null] } ]"#,
+    );
+    let pattern = parse_fold(&text).unwrap();
+    let steps = parse_fold_frames(&text, &pattern).unwrap();
+    assert_eq!(steps.len(), 3);
+    assert_eq!(steps[0][8..], [Some(30.0), Some(40.0)]);
+    assert_eq!(steps[1], steps[0]);
+    // Valleys keep their sign; null is the full fold.
+    assert_eq!(steps[2][8..], [Some(90.0), None]);
+    assert!(parse_fold_frames(&strip(""), &pattern).unwrap().is_empty());
+}
+
+fn refused(scene_text: &str, fold_file: &str) -> String {
+    match build(scene_text, fold_file) {
+        Ok(_) => panic!("accepted: {scene_text}"),
+        Err(e) => e,
+    }
+}
+
+#[test]
+fn bad_steps_are_refused_with_where_and_why() {
+    let cases = [
+        (
+            scene(r#"{ "steps": [ { "creases": [99] } ] }"#),
+            strip(""),
+            "fold.steps[0].creases[0]",
+            "edge 99 does not exist: the pattern has 10 edges",
+        ),
+        (
+            scene(r#"{ "steps": [ { "creases": [8] }, { "creases": [2] } ] }"#),
+            strip(""),
+            "fold.steps[1].creases[0]",
+            "edge 2 is not a crease",
+        ),
+        (
+            scene(r#"{ "steps": [ { "creases": "X", "fraction": 2 } ] }"#),
+            strip(""),
+            "fold.steps[0].fraction",
+            "must be between 0 and 1, got 2",
+        ),
+        (
+            scene(r#"{ "steps": [ { "creases": "X" } ] }"#),
+            strip(""),
+            "fold.steps[0].creases",
+            r#"expected "all", "M", "V" or a list of edge indices, got "X""#,
+        ),
+        (
+            scene(r#"{ "frames_to_fold": 0, "steps": [ { "creases": "all" } ] }"#),
+            strip(""),
+            "fold.steps[0].frames",
+            "a step needs at least 1 frame",
+        ),
+        (
+            scene(r#"{ "steps": [ { "creases": "all" } ] }"#),
+            strip(TWO_STEPS),
+            "fold.steps",
+            "has steps of its own",
+        ),
+        (
+            scene("{}"),
+            strip(r#", "file_frames": [ { "edges_foldAngle": [0, 90] } ]"#),
+            "file_frames[0].edges_foldAngle",
+            "has 2 entries, but edges_vertices has 10",
+        ),
+        (
+            scene("{}"),
+            strip(r#", "file_frames": [ { "frame_title": "no angles" } ]"#),
+            "file_frames[0]",
+            "a step needs edges_foldAngle",
+        ),
+        (
+            scene("{}"),
+            strip(
+                r#", "file_frames": [ { "frame_inherit": true, "frame_parent": 2 },
+                                      { "frame_inherit": true, "frame_parent": 1 } ]"#,
+            ),
+            "file_frames[0].frame_parent",
+            "cycle",
+        ),
+        (
+            scene("{}"),
+            strip(r#", "file_frames": [ { "frame_inherit": true, "frame_parent": 7 } ]"#),
+            "file_frames[0].frame_parent",
+            "expected a frame index from 0 (the key frame) to 1, found 7",
+        ),
+        (
+            scene("{}"),
+            strip(r#", "file_frames": [ { "edges_foldAngle": [0,0,0,0,0,0,0,0,270,0] } ]"#),
+            "file_frames[0].edges_foldAngle[8]",
+            "must be between -180 and 180 degrees",
+        ),
+        (
+            scene("{}"),
+            strip(r#", "file_frames": 3"#),
+            "file_frames",
+            "expected an array, found a number",
+        ),
+    ];
+    for (scene_text, fold_file, path, reason) in cases {
+        let message = refused(&scene_text, &fold_file);
+        assert!(
+            message.contains(path) && message.contains(reason),
+            "expected {path}: {reason}, got: {message}"
+        );
+    }
+}
+
+#[test]
+fn the_shipped_scene_folds_in_its_three_steps() {
+    let repo = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let scene = Scene::load(&repo.join("scenes/fold_waterbomb_in_steps.json")).unwrap();
+    let sim = scene
+        .build(&repo.join("scenes"), "fold_waterbomb_in_steps.json")
+        .unwrap();
+    assert_eq!(sim.fold_steps.as_ref().unwrap().frames, [80, 80, 120]);
+}
