@@ -1,7 +1,7 @@
 //! `pleat bench`: whole-frame timings of the standard hanging cloth
 //! (DESIGN.md section 5), as a table or one JSON object a line.
 
-use crate::report::{dispatches_per_frame, FrameTimes, StagesMs};
+use crate::report::{dispatches_per_frame, self_contact_builds_per_frame, FrameTimes, StagesMs};
 use crate::{build_on, check_backend, with_threads};
 use pleat::metrics::stretch;
 use pleat::scene::presets::hanging_cloth;
@@ -64,6 +64,9 @@ pub struct BenchLine {
     /// Compute dispatches a frame on a GPU (mean over the timed frames);
     /// null on the CPU.
     dispatches_per_frame: Option<f64>,
+    /// Builds of the self-contact candidates a frame on a GPU with
+    /// self-collision (mean over the timed frames); null elsewhere.
+    self_contact_builds_per_frame: Option<f64>,
 }
 
 pub fn bench(args: &BenchArgs) -> Result<ExitCode, String> {
@@ -157,6 +160,7 @@ fn measure_here(args: &BenchArgs, n: u32) -> Result<BenchLine, String> {
         threads: rayon::current_num_threads(),
         stages_ms: StagesMs::from(&sim.stages, args.frames),
         dispatches_per_frame: dispatches_per_frame(&sim, args.frames),
+        self_contact_builds_per_frame: self_contact_builds_per_frame(&sim, args.frames),
         tethers: args.tethers,
     })
 }

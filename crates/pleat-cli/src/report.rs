@@ -32,6 +32,10 @@ pub struct Report {
     pub self_contacts_per_frame: f64,
     /// Candidate self-contacts the broad phase found, per frame.
     pub self_contact_candidates_per_frame: f64,
+    /// Builds of the self-contact candidates per frame, where the backend
+    /// keeps them over substeps (the GPU); null where it builds them every
+    /// substep (the CPU).
+    pub self_contact_builds_per_frame: Option<f64>,
     /// Compute dispatches a frame on a GPU (mean over the run); null on the CPU.
     pub dispatches_per_frame: Option<f64>,
     pub max_stretch: f32,
@@ -122,6 +126,14 @@ pub fn dispatches_per_frame(sim: &Simulation, frames: u32) -> Option<f64> {
         .map(|_| sim.stages.dispatches as f64 / f64::from(frames.max(1)))
 }
 
+/// Builds of the self-contact candidates per frame of a run of `frames`
+/// frames, where the backend keeps them over substeps (a GPU backend's
+/// self-collision); `None` elsewhere.
+pub fn self_contact_builds_per_frame(sim: &Simulation, frames: u32) -> Option<f64> {
+    (sim.settings.self_collision.enabled && sim.backend().dispatches_per_frame().is_some())
+        .then(|| sim.stages.self_contact_builds as f64 / f64::from(frames.max(1)))
+}
+
 impl Report {
     /// The report of `sim` after its run.
     pub fn new(sim: &Simulation, scene: &Scene, frame_times: &[Duration], threads: usize) -> Self {
@@ -159,6 +171,7 @@ impl Report {
             self_contacts_per_frame: sim.stages.self_contacts as f64 / frames.max(1) as f64,
             self_contact_candidates_per_frame: sim.stages.self_contact_candidates as f64
                 / frames.max(1) as f64,
+            self_contact_builds_per_frame: self_contact_builds_per_frame(sim, frames),
             dispatches_per_frame: dispatches_per_frame(sim, frames),
             max_stretch: m.max_stretch,
             mean_stretch: m.mean_stretch,

@@ -40,10 +40,13 @@ struct Params {
     fold_held: u32,
     // Always 0, unknown to the compiler (momentum.wgsl).
     opaque_zero: u32,
-    pad0: u32,
-    pad1: u32,
-    pad2: u32,
-    pad3: u32,
+    // Self-contact candidates (contact_grid.wgsl): how much farther than
+    // the thickness a pair is kept, the rest distance below which a cloth's
+    // pairs never collide, and how many pairs fit.
+    contact_margin: f32,
+    contact_exclusion: f32,
+    contact_capacity: u32,
+    pad: u32,
 }
 
 // The slice of a constraint array one dispatch works on (one colour;

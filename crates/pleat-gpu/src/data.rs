@@ -48,7 +48,10 @@ pub struct Params {
     /// Always 0, unknown to the shader compiler: an exact sum's round-off
     /// masked with it is not simplified away (momentum.wgsl).
     pub opaque_zero: u32,
-    pub pad: [u32; 4],
+    pub contact_margin: f32,
+    pub contact_exclusion: f32,
+    pub contact_capacity: u32,
+    pub pad: u32,
 }
 
 /// What [`Params::at`] needs besides the world and the settings.
@@ -57,9 +60,13 @@ pub struct Counts {
     pub triangles: u32,
     pub pins: u32,
     pub colliders: u32,
-    /// Self-contact hash grid: cell size and buckets (zero when off).
+    /// Self-contacts (zero when off): the hash grid's cell size and
+    /// buckets, and the candidates' margin, exclusion radius and capacity.
     pub contact_cell: f32,
     pub contact_buckets: u32,
+    pub contact_margin: f32,
+    pub contact_exclusion: f32,
+    pub contact_capacity: u32,
 }
 
 impl Params {
@@ -104,7 +111,10 @@ impl Params {
             contact_kinetic: settings.self_collision.friction.kinetic_coefficient,
             fold_held: control.fold.held as u32,
             opaque_zero: 0,
-            pad: [0; 4],
+            contact_margin: counts.contact_margin,
+            contact_exclusion: counts.contact_exclusion,
+            contact_capacity: counts.contact_capacity,
+            pad: 0,
         }
     }
 }

@@ -94,7 +94,29 @@ pub struct HealthWatch {
     measuring: Option<f32>,
     /// Time of the frame whose result is being mapped, and how that goes.
     in_flight: Option<(f32, Arc<AtomicU8>)>,
+    /// The self-contacts' candidates, whose header's counters come back
+    /// with the result and are cleared then.
+    contact_counts: Option<wgpu::Buffer>,
+    /// The counters that came back and have not been taken yet.
+    arrived_counts: ContactCounts,
 }
+
+/// The self-contacts' counters read back, summed over substeps since the
+/// last read.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ContactCounts {
+    /// Candidate pairs solved.
+    pub candidates: u64,
+    /// Contacts that acted.
+    pub acted: u64,
+    /// Builds of the candidates.
+    pub builds: u64,
+}
+
+/// Bytes of the result read back: the summary, then the counters' words
+/// of the candidates' header (lib/contact.wgsl: solved, acted, builds).
+const SUMMARY_BYTES: u64 = size_of::<Summary>() as u64;
+const COUNTERS: std::ops::Range<u64> = 8..20;
 
 /// What [`HealthWatch::new`] binds besides its own buffers.
 pub struct HealthInputs<'a> {
@@ -102,6 +124,8 @@ pub struct HealthInputs<'a> {
     pub paper: &'a PaperEdges,
     /// The range table and the offset of the paper edges' range in it.
     pub ranges: (&'a wgpu::Buffer, u32),
+    /// The self-contacts' candidates, if any: their counters come back too.
+    pub contact_counts: Option<&'a wgpu::Buffer>,
 }
 
 impl HealthWatch {
@@ -110,6 +134,7 @@ impl HealthWatch {
             model,
             paper,
             ranges: (ranges, range_offset),
+            contact_counts,
         } = inputs;
         let rest: Vec<[f32; 4]> = model
             .rest
@@ -146,13 +171,15 @@ impl HealthWatch {
             items,
             readback: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("health readback"),
-                size,
+                size: size + (COUNTERS.end - COUNTERS.start),
                 usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
             result,
             measuring: None,
             in_flight: None,
+            contact_counts: contact_counts.cloned(),
+            arrived_counts: ContactCounts::default(),
         }
     }
 
@@ -183,10 +210,25 @@ impl HealthWatch {
             pass.set_pipeline(sums);
             pass.dispatch_workgroups(1, 1, 1);
         }
-        let size = size_of::<Summary>() as u64;
-        encoder.copy_buffer_to_buffer(&self.result, 0, &self.readback, 0, size);
+        encoder.copy_buffer_to_buffer(&self.result, 0, &self.readback, 0, SUMMARY_BYTES);
+        if let Some(counts) = &self.contact_counts {
+            let len = COUNTERS.end - COUNTERS.start;
+            encoder.copy_buffer_to_buffer(
+                counts,
+                COUNTERS.start,
+                &self.readback,
+                SUMMARY_BYTES,
+                len,
+            );
+            encoder.clear_buffer(counts, COUNTERS.start, Some(len));
+        }
         self.measuring = Some(time);
         2
+    }
+
+    /// The self-contacts' counters that came back since the last call.
+    pub fn take_contact_counts(&mut self) -> ContactCounts {
+        std::mem::take(&mut self.arrived_counts)
     }
 
     /// After the frame's submission: asks for its result, if it was measured.
@@ -208,11 +250,15 @@ impl HealthWatch {
         let health = match state.load(Ordering::Acquire) {
             PENDING => return None,
             ARRIVED => {
-                let summary = self
-                    .readback
-                    .get_mapped_range(..)
-                    .ok()
-                    .map(|data| *bytemuck::from_bytes::<Summary>(&data[..]));
+                let summary = self.readback.get_mapped_range(..).ok().map(|data| {
+                    let (summary, counters) = data.split_at(SUMMARY_BYTES as usize);
+                    let [candidates, acted, builds]: [u32; 3] =
+                        bytemuck::pod_read_unaligned(counters);
+                    self.arrived_counts.candidates += u64::from(candidates);
+                    self.arrived_counts.acted += u64::from(acted);
+                    self.arrived_counts.builds += u64::from(builds);
+                    *bytemuck::from_bytes::<Summary>(summary)
+                });
                 self.readback.unmap();
                 summary.map(|s| s.health(*time))
             }

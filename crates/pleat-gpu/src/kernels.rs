@@ -60,8 +60,19 @@ pub struct Kernels {
     pub health: [wgpu::ComputePipeline; 2],
     /// The free cloths' turn: sums per workgroup, the turn, its application.
     pub momentum: [wgpu::ComputePipeline; 3],
-    /// Self-contact kernels in the order they run.
-    pub self_contact: [wgpu::ComputePipeline; 8],
+    pub self_contact: SelfContactKernels,
+}
+
+/// The self-contact kernels.
+#[derive(Clone)]
+pub struct SelfContactKernels {
+    /// `bound` and `check`, then the build's in the order they run:
+    /// clear, count, scan_blocks, scan_sums, scan_add, scatter, find.
+    pub grid: [wgpu::ComputePipeline; 9],
+    /// The indirect dispatches' counts: arm_build, arm_solve.
+    pub arm: [wgpu::ComputePipeline; 2],
+    /// The solve: contacts, apply.
+    pub solve: [wgpu::ComputePipeline; 2],
 }
 
 fn storage(binding: u32) -> wgpu::BindGroupLayoutEntry {
@@ -184,13 +195,24 @@ impl Kernels {
             ],
             momentum: ["sum_blocks", "solve", "apply"]
                 .map(|e| pipeline(shaders::MOMENTUM, e, &with_kernel)),
-            self_contact: shaders::SELF_CONTACT
-                .entry_points
-                .iter()
-                .map(|e| pipeline(shaders::SELF_CONTACT, e, &with_kernel))
-                .collect::<Vec<_>>()
-                .try_into()
-                .expect("eight self-contact kernels"),
+            self_contact: SelfContactKernels {
+                grid: [
+                    "bound",
+                    "check",
+                    "clear",
+                    "count",
+                    "scan_blocks",
+                    "scan_sums",
+                    "scan_add",
+                    "scatter",
+                    "find",
+                ]
+                .map(|e| pipeline(shaders::CONTACT_GRID, e, &with_kernel)),
+                arm: ["arm_build", "arm_solve"]
+                    .map(|e| pipeline(shaders::CONTACT_DISPATCH, e, &with_kernel)),
+                solve: ["contacts", "apply"]
+                    .map(|e| pipeline(shaders::SELF_CONTACT, e, &with_kernel)),
+            },
             state_layout,
             kernel_layout,
         }

@@ -43,6 +43,8 @@ const DISTANCE_LIB: &str = include_str!("../shaders/lib/distance.wgsl");
 const HINGE_LIB: &str = include_str!("../shaders/lib/hinge.wgsl");
 /// The free cloths' turn.
 const MOMENTUM_LIB: &str = include_str!("../shaders/lib/momentum.wgsl");
+/// Self-contacts' candidate layout and closest points.
+const CONTACT_LIB: &str = include_str!("../shaders/lib/contact.wgsl");
 
 macro_rules! module {
     ($name:literal, [$($entry:literal),+]) => {
@@ -106,20 +108,32 @@ pub const ATTACHMENT: Module = module!("attachment", ["solve"]);
 /// Jacobi PBD's corrections and their gather.
 pub const JACOBI: Module = module!("jacobi", ["correct", "gather"]);
 
-/// Self-collision: hash grid, prefix sum, contacts and their Jacobi solve.
-pub const SELF_CONTACT: Module = module!(
-    "self_contact",
+/// Self-contacts' broad phase: the displacements' range and the stale
+/// check, then a build's hash grid (clear, count, prefix sum, scatter) and
+/// candidate pairs.
+pub const CONTACT_GRID: Module = module!(
+    "contact_grid",
+    [CONTACT_LIB],
     [
+        "bound",
+        "check",
         "clear",
         "count",
         "scan_blocks",
         "scan_sums",
         "scan_add",
         "scatter",
-        "contacts",
-        "apply"
+        "find"
     ]
 );
+/// The self-contacts' indirect dispatch counts: the build's and the solve's.
+pub const CONTACT_DISPATCH: Module = module!(
+    "contact_dispatch",
+    [CONTACT_LIB],
+    ["arm_build", "arm_solve"]
+);
+/// Self-contacts' Jacobi solve over the candidates.
+pub const SELF_CONTACT: Module = module!("self_contact", [CONTACT_LIB], ["contacts", "apply"]);
 
 /// The health reduction: non-finite values, energy, paper strain.
 pub const HEALTH: Module = module!("health", ["reduce_blocks", "reduce_sums"]);
@@ -136,7 +150,7 @@ pub const PERSISTENT: Module = module!(
 );
 
 /// Every module of the backend.
-pub const ALL: [Module; 18] = [
+pub const ALL: [Module; 20] = [
     PREDICT,
     PINS,
     WIND,
@@ -151,6 +165,8 @@ pub const ALL: [Module; 18] = [
     GRAB_REACH,
     ATTACHMENT,
     JACOBI,
+    CONTACT_GRID,
+    CONTACT_DISPATCH,
     SELF_CONTACT,
     HEALTH,
     MOMENTUM,

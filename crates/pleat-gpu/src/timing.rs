@@ -1,6 +1,7 @@
 //! Per-stage GPU times from timestamp queries, where the adapter has them:
-//! each substep runs as four compute passes (prediction with wind and pins,
-//! constraints, self-contacts, collider contacts with the velocity update),
+//! each substep runs as six compute passes (prediction with wind and pins,
+//! constraints, the self-contacts' broad phase, narrow phase and solve,
+//! collider contacts with the velocity update),
 //! each stamped at its start and end. The stamps of a frame are resolved
 //! into a buffer and copied to a mappable one of a small pool, read back
 //! without blocking: every frame is timed while the stamps of up to
@@ -18,11 +19,25 @@ use std::time::Duration;
 pub enum TimedStage {
     Predict = 0,
     Constraints = 1,
-    SelfContacts = 2,
-    Collisions = 3,
+    SelfBroadPhase = 2,
+    SelfNarrowPhase = 3,
+    SelfSolve = 4,
+    Collisions = 5,
 }
 
-const STAGES: u32 = 4;
+impl TimedStage {
+    /// Every stage, in the order they run.
+    pub const ALL: [TimedStage; STAGES as usize] = [
+        TimedStage::Predict,
+        TimedStage::Constraints,
+        TimedStage::SelfBroadPhase,
+        TimedStage::SelfNarrowPhase,
+        TimedStage::SelfSolve,
+        TimedStage::Collisions,
+    ];
+}
+
+const STAGES: u32 = 6;
 /// Frames whose stamps may be on their way back at once.
 const IN_FLIGHT: usize = 8;
 const PENDING: u8 = 0;
@@ -82,11 +97,17 @@ fn add_ticks(ticks: &[u64], period: f32, stages: &mut StageTimes) {
     for (k, pair) in ticks.chunks_exact(2).enumerate() {
         let ns = pair[1].saturating_sub(pair[0]) as f64 * period as f64;
         let d = Duration::from_nanos(ns as u64);
-        match k as u32 % STAGES {
-            0 => stages.predict += d,
-            1 => stages.constraints += d,
-            2 => stages.self_collision += d,
-            _ => stages.collisions += d,
+        let self_part = match k as u32 % STAGES {
+            0 => &mut stages.predict,
+            1 => &mut stages.constraints,
+            2 => &mut stages.self_broad_phase,
+            3 => &mut stages.self_narrow_phase,
+            4 => &mut stages.self_solve,
+            _ => &mut stages.collisions,
+        };
+        *self_part += d;
+        if (2..5).contains(&(k as u32 % STAGES)) {
+            stages.self_collision += d;
         }
     }
 }
@@ -235,13 +256,6 @@ mod tests {
     use super::*;
     use crate::GpuContext;
 
-    const ALL: [TimedStage; 4] = [
-        TimedStage::Predict,
-        TimedStage::Constraints,
-        TimedStage::SelfContacts,
-        TimedStage::Collisions,
-    ];
-
     /// Submits a frame of `substeps` substeps of empty stamped passes, not
     /// waiting for it; whether it was timed.
     fn frame(context: &GpuContext, t: &mut Timestamps, substeps: u32) -> bool {
@@ -252,7 +266,7 @@ mod tests {
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
         for s in 0..substeps {
-            for stage in ALL {
+            for stage in TimedStage::ALL {
                 encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                     label: None,
                     timestamp_writes: t.writes(s, stage),

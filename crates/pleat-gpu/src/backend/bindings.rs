@@ -6,7 +6,7 @@ use super::resources::{KernelBuffers, PerSubstep};
 use super::GpuBackend;
 use crate::buffers::{entry, sized_entry, zeroed};
 use crate::data::{Params, Range};
-use crate::kernels::Kernels;
+use crate::kernels::{Kernels, SelfContactKernels};
 
 /// One kernel with its buffers bound, and the slices it is dispatched on.
 pub(super) struct Stage {
@@ -16,12 +16,17 @@ pub(super) struct Stage {
     pub(super) dispatches: Vec<(u32, u32)>,
 }
 
-/// The self-contact kernels with their bind group.
+/// The self-contact kernels with their bind groups.
 pub(super) struct SelfContactStage {
-    pub(super) bind_group: wgpu::BindGroup,
-    /// clear, count, scan_blocks, scan_sums, scan_add, scatter, contacts, apply.
-    pub(super) pipelines: [wgpu::ComputePipeline; 8],
-    pub(super) buckets: u32,
+    /// The broad phase's: grid, topology, rest, candidates.
+    pub(super) grid: wgpu::BindGroup,
+    /// The dispatch counts': counts, topology, rest, candidates.
+    pub(super) arm: wgpu::BindGroup,
+    /// The solve's: candidates, topology, rest, corrections.
+    pub(super) solve: wgpu::BindGroup,
+    pub(super) kernels: SelfContactKernels,
+    /// The indirect dispatches' workgroup counts.
+    pub(super) args: wgpu::Buffer,
 }
 
 /// Every kernel with its bind group, in the order a substep runs them.
@@ -188,9 +193,11 @@ impl Stages {
                 )
             }),
             self_contact: b.self_contact.as_ref().map(|c| SelfContactStage {
-                bind_group: group([&c.grid, &c.topology, &c.rest, &c.accum]),
-                pipelines: kernels.self_contact.clone(),
-                buckets: c.buckets,
+                grid: group([&c.grid, &c.topology, &c.rest, &c.candidates]),
+                arm: group([&c.args, &c.topology, &c.rest, &c.candidates]),
+                solve: group([&c.candidates, &c.topology, &c.rest, &c.accum]),
+                kernels: kernels.self_contact.clone(),
+                args: c.args.clone(),
             }),
             collide: (!b.collider_shapes.is_empty()).then(|| {
                 stage(

@@ -175,12 +175,7 @@ impl Persistent {
         self.program.iterations = iterations;
         let header = &bytemuck::bytes_of(&self.program)[..8];
         queue.write_buffer(&self.program_buffer, 0, header);
-        for stage in [
-            TimedStage::Predict,
-            TimedStage::Constraints,
-            TimedStage::SelfContacts,
-            TimedStage::Collisions,
-        ] {
+        for stage in TimedStage::ALL {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("persistent frame"),
                 timestamp_writes: timestamps.and_then(|t| t.writes(0, stage)),

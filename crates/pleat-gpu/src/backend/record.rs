@@ -3,6 +3,7 @@
 //! recorded as compute passes and submitted.
 
 use super::bindings::{SelfContactStage, Stage, StrainLimitStages};
+use super::resources::BUILD_KERNELS;
 use super::GpuBackend;
 use crate::data::{self, GpuPose, Params};
 use crate::kernels::{workgroups, COMPLIANCE_SLOTS, UNIFORM_STRIDE};
@@ -12,6 +13,9 @@ use pleat::constraint::Compliances;
 use pleat::control::Control;
 use pleat::solver::{substep_times, SolverSettings, StageTimes};
 use pleat::World;
+
+/// Bytes of one indirect dispatch's workgroup counts.
+const INDIRECT_ARGS: usize = 12;
 
 /// The per-substep parameters, pin targets and collider poses of a frame,
 /// written on the CPU before upload.
@@ -26,28 +30,48 @@ pub(super) struct FrameData {
 }
 
 impl SelfContactStage {
-    /// Builds the hash grid and solves the contacts of `particles`
-    /// particles; returns the dispatches it recorded.
-    fn record(&self, pass: &mut wgpu::ComputePass<'_>, particles: u32) -> u32 {
-        let [clear, count, scan_blocks, scan_sums, scan_add, scatter, contacts, apply] =
-            &self.pipelines;
-        pass.set_bind_group(1, &self.bind_group, &[0]);
-        let over = |pass: &mut wgpu::ComputePass<'_>, pipeline, n: u32| {
-            pass.set_pipeline(pipeline);
-            let (x, y) = workgroups(n);
-            pass.dispatch_workgroups(x, y, 1);
-        };
-        over(pass, clear, (2 * self.buckets).max(4 * particles));
-        over(pass, count, particles);
-        pass.set_pipeline(scan_blocks);
-        pass.dispatch_workgroups(self.buckets / crate::kernels::WORKGROUP, 1, 1);
-        pass.set_pipeline(scan_sums);
-        pass.dispatch_workgroups(1, 1, 1);
-        over(pass, scan_add, self.buckets);
-        over(pass, scatter, particles);
-        over(pass, contacts, particles);
-        over(pass, apply, particles);
-        self.pipelines.len() as u32
+    /// The broad phase over `particles` particles: checks whether the
+    /// candidates are stale and builds them afresh if so (indirect
+    /// dispatches of no workgroups if not); returns the dispatches.
+    fn record_broad_phase(&self, pass: &mut wgpu::ComputePass<'_>, particles: u32) -> u32 {
+        let [bound, check, build @ ..] = &self.kernels.grid;
+        pass.set_bind_group(1, &self.grid, &[0]);
+        let mut n = over_particles(pass, bound, particles);
+        n += over_particles(pass, check, particles);
+        pass.set_bind_group(1, &self.arm, &[0]);
+        n += over_particles(pass, &self.kernels.arm[0], 1);
+        pass.set_bind_group(1, &self.grid, &[0]);
+        for (slot, kernel) in build.iter().enumerate() {
+            n += self.indirect(pass, kernel, slot);
+        }
+        n
+    }
+
+    /// The narrow phase: each candidate's contact and corrections.
+    fn record_narrow_phase(&self, pass: &mut wgpu::ComputePass<'_>) -> u32 {
+        pass.set_bind_group(1, &self.arm, &[0]);
+        let n = over_particles(pass, &self.kernels.arm[1], 1);
+        pass.set_bind_group(1, &self.solve, &[0]);
+        n + self.indirect(pass, &self.kernels.solve[0], BUILD_KERNELS)
+    }
+
+    /// The corrections of `particles` particles applied.
+    fn record_solve(&self, pass: &mut wgpu::ComputePass<'_>, particles: u32) -> u32 {
+        pass.set_bind_group(1, &self.solve, &[0]);
+        over_particles(pass, &self.kernels.solve[1], particles)
+    }
+
+    /// Dispatches `pipeline` on the workgroup counts of indirect slot
+    /// `slot` (one dispatch).
+    fn indirect(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        pipeline: &wgpu::ComputePipeline,
+        slot: usize,
+    ) -> u32 {
+        pass.set_pipeline(pipeline);
+        pass.dispatch_workgroups_indirect(&self.args, (slot * INDIRECT_ARGS) as u64);
+        1
     }
 }
 
@@ -66,7 +90,8 @@ impl GpuBackend {
     /// Gives paper the strain limits of a fold held or moving, writes the
     /// frame's uniforms, records its substeps (the held limits first where
     /// the fold came to rest) and the health reduction, and
-    /// submits them; `stages` takes the GPU times of earlier frames.
+    /// submits them; `stages` takes the GPU times and the self-contacts'
+    /// counts of earlier frames.
     pub(super) fn record_frame(
         &mut self,
         world: &World,
@@ -78,6 +103,10 @@ impl GpuBackend {
         if let Some(t) = &mut self.timestamps {
             t.collect(stages);
         }
+        let counts = self.health.take_contact_counts();
+        stages.self_contact_candidates += counts.candidates;
+        stages.self_contacts += counts.acted;
+        stages.self_contact_builds += counts.builds;
         self.hold_fold(control.fold.held);
         let substeps = self.write_frame(world, (settings, compliances), control);
         let persistent = self.runs_persistent(world, control, substeps);
@@ -219,8 +248,9 @@ impl GpuBackend {
         dispatch(&mut pass, &limits.held, Some(1))
     }
 
-    /// Records one substep as four passes (stamped where the adapter has
-    /// timestamps): prediction, constraints, self-contacts, collisions;
+    /// Records one substep as six passes (stamped where the adapter has
+    /// timestamps): prediction, constraints, the self-contacts' broad
+    /// phase, narrow phase and solve, collisions;
     /// returns the dispatches it recorded.
     fn record_substep(
         &self,
@@ -274,9 +304,19 @@ impl GpuBackend {
                 }
             }
         });
-        pass(TimedStage::SelfContacts, &mut |pass| {
+        pass(TimedStage::SelfBroadPhase, &mut |pass| {
             if let Some(contact) = &st.self_contact {
-                n += contact.record(pass, particles);
+                n += contact.record_broad_phase(pass, particles);
+            }
+        });
+        pass(TimedStage::SelfNarrowPhase, &mut |pass| {
+            if let Some(contact) = &st.self_contact {
+                n += contact.record_narrow_phase(pass);
+            }
+        });
+        pass(TimedStage::SelfSolve, &mut |pass| {
+            if let Some(contact) = &st.self_contact {
+                n += contact.record_solve(pass, particles);
             }
         });
         pass(TimedStage::Collisions, &mut |pass| {
@@ -289,8 +329,7 @@ impl GpuBackend {
     }
 }
 
-/// Dispatches a kernel of the state alone over `particles` invocations
-/// (one dispatch).
+/// Dispatches `pipeline` over `particles` invocations (one dispatch).
 fn over_particles(
     pass: &mut wgpu::ComputePass<'_>,
     pipeline: &wgpu::ComputePipeline,

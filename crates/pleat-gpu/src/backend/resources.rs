@@ -15,7 +15,7 @@ use crate::buffers::{storage, zeroed};
 use crate::context::{GpuContext, GpuError};
 use crate::data::{self, Counts, GpuCollider, GpuPose, Range};
 use crate::health::{HealthInputs, HealthWatch, PaperEdges};
-use crate::kernels::{Kernels, COMPLIANCE_SLOTS, UNIFORM_STRIDE};
+use crate::kernels::{workgroups, Kernels, COMPLIANCE_SLOTS, UNIFORM_STRIDE};
 use crate::momentum::Momentum;
 use crate::timing::Timestamps;
 use glam::Vec3;
@@ -99,19 +99,30 @@ pub(super) struct KernelBuffers {
     pub(super) grab_reach: Option<([wgpu::Buffer; 2], (u32, u32))>,
 }
 
-/// The self-contact hash grid and its inputs and outputs.
+/// The self-contacts' hash grid, candidates and dispatch counts, and their
+/// inputs and outputs.
 pub(super) struct SelfContactBuffers {
     /// Bucket counts and starts, fill counters, sorted particles, scan sums.
     pub(super) grid: wgpu::Buffer,
     /// Triangles, then the triangles each vertex owns (compressed rows).
     pub(super) topology: wgpu::Buffer,
-    /// Rest positions, for the rest-neighbour exclusion.
+    /// Rest positions with the cloth's index in w, then the positions at
+    /// the last build.
     pub(super) rest: wgpu::Buffer,
     /// Fixed-point corrections and contact counts per particle.
     pub(super) accum: wgpu::Buffer,
+    /// Header (pairs found, fresh, builds), then the pairs.
+    pub(super) candidates: wgpu::Buffer,
+    /// The indirect dispatches' workgroup counts: the build's, the solve's,
+    /// then the build's when it runs.
+    pub(super) args: wgpu::Buffer,
     pub(super) cell: f32,
     /// Hash table size: a power of two, a multiple of the scan block.
     pub(super) buckets: u32,
+    pub(super) margin: f32,
+    pub(super) exclusion: f32,
+    /// Most candidate pairs kept.
+    pub(super) capacity: u32,
 }
 
 /// What the strain limits' sweeps need besides the distances' items.
@@ -137,6 +148,18 @@ impl StrainLimitBuffers {
 
 /// Most a rest edge may stretch and still find its triangles' contacts.
 const CONTACT_EDGE_STRETCH: f32 = 1.5;
+/// A cloth's pairs closer at rest than this many thicknesses never collide.
+const CONTACT_EXCLUSION: f32 = 2.0;
+/// How much farther than the thickness a candidate pair may lie, in
+/// thicknesses: below the exclusion radius less one, so that flat cloth,
+/// and cloth compressed by up to an eighth, gives no candidates.
+const CONTACT_MARGIN: f32 = 0.75;
+/// Candidate pairs per particle kept at most.
+const CANDIDATES_PER_PARTICLE: u64 = 8;
+/// Words of the candidates' header (`HEADER` in lib/contact.wgsl).
+const CANDIDATE_HEADER: u64 = 12;
+/// Kernels of a build (contact_grid.wgsl's, `check` aside).
+pub(super) const BUILD_KERNELS: usize = 7;
 
 impl SelfContactBuffers {
     pub(super) fn new(
@@ -151,24 +174,71 @@ impl SelfContactBuffers {
             .iter()
             .map(|e| e.rest_length)
             .fold(0.0, f32::max);
+        let exclusion = CONTACT_EXCLUSION * thickness;
+        let margin = CONTACT_MARGIN * thickness;
         let buckets = (2 * n).next_power_of_two().max(crate::kernels::WORKGROUP);
         let grid_len = 2 * buckets as u64 + n as u64 + (buckets / crate::kernels::WORKGROUP) as u64;
         let (start, owned) = owned_triangles(model);
         let topology: Vec<u32> = [triangles, &start, &owned].concat();
-        let rest: Vec<[f32; 4]> = model
-            .rest
-            .iter()
-            .map(|p| p.extend(0.0).to_array())
-            .collect();
+        let mut rest = vec![[0.0; 4]; 2 * n as usize];
+        for (k, cloth) in model.cloths.iter().enumerate() {
+            for i in cloth.particles() {
+                rest[i] = model.rest[i].extend(k as f32).to_array();
+            }
+        }
+        let largest = device.limits().max_storage_buffer_binding_size;
+        let capacity = (CANDIDATES_PER_PARTICLE * u64::from(n))
+            .min(largest / 8 - CANDIDATE_HEADER)
+            .max(1);
+        let cell = CONTACT_EDGE_STRETCH * longest + thickness + margin;
         SelfContactBuffers {
             grid: zeroed(device, "contact grid", grid_len * 4),
             topology: storage(device, "topology", &topology),
             rest: storage(device, "rest positions", &rest),
             accum: zeroed(device, "contact corrections", n as u64 * 16),
-            cell: CONTACT_EDGE_STRETCH * longest + thickness,
+            args: indirect_args(device, build_workgroups(n, buckets)),
+            // Zeroed: not fresh, so the first substep builds.
+            candidates: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("contact candidates"),
+                size: (CANDIDATE_HEADER + 2 * capacity) * 4,
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_DST
+                    | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            }),
+            cell,
             buckets,
+            margin,
+            exclusion,
+            capacity: capacity as u32,
         }
     }
+}
+
+/// The workgroups of the build's kernels over `n` particles and `buckets`
+/// buckets: clear, count, scan_blocks, scan_sums, scan_add, scatter, find.
+fn build_workgroups(n: u32, buckets: u32) -> [(u32, u32); BUILD_KERNELS] {
+    [
+        workgroups(2 * buckets),
+        workgroups(n),
+        workgroups(buckets / crate::kernels::WORKGROUP),
+        (1, 1),
+        workgroups(buckets),
+        workgroups(n),
+        workgroups(n),
+    ]
+}
+
+/// The indirect dispatches' buffer: the build's and the solve's counts
+/// (written on the GPU), then the build's when it runs.
+fn indirect_args(device: &wgpu::Device, build: [(u32, u32); BUILD_KERNELS]) -> wgpu::Buffer {
+    let mut words = vec![0u32; 3 * (BUILD_KERNELS + 1)];
+    words.extend(build.iter().flat_map(|&(x, y)| [x, y, 1]));
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("contact dispatches"),
+        contents: bytemuck::cast_slice(&words),
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
+    })
 }
 
 /// Each triangle under its vertex of lowest index, in compressed rows
@@ -214,6 +284,10 @@ impl GpuBackend {
             0,
             bytemuck::cast_slice(&with(&particles.v, &|_| 0.0)),
         );
+        // Positions set from outside: the self-contacts' candidates are stale.
+        if let Some(contact) = &self.buffers.self_contact {
+            queue.write_buffer(&contact.candidates, 4, bytemuck::bytes_of(&0u32));
+        }
     }
 
     /// Gives paper's strain limits those of a fold that is `held` or
@@ -386,13 +460,17 @@ impl GpuBackend {
             mapped_at_creation: false,
         });
         let kernels = Kernels::new(device);
+        let contact = buffers.self_contact.as_ref();
         let counts = Counts {
             particles: n as u32,
             triangles: model.triangles.len() as u32,
             pins: (hard_pins.len() + soft_pins.len()) as u32,
             colliders: buffers.collider_shapes.len() as u32,
-            contact_cell: buffers.self_contact.as_ref().map_or(0.0, |c| c.cell),
-            contact_buckets: buffers.self_contact.as_ref().map_or(0, |c| c.buckets),
+            contact_cell: contact.map_or(0.0, |c| c.cell),
+            contact_buckets: contact.map_or(0, |c| c.buckets),
+            contact_margin: contact.map_or(0.0, |c| c.margin),
+            contact_exclusion: contact.map_or(0.0, |c| c.exclusion),
+            contact_capacity: contact.map_or(0, |c| c.capacity),
         };
         let sheet = persistent::Sheet {
             kinds: &buffers.constraints,
@@ -433,6 +511,7 @@ impl GpuBackend {
                 model,
                 paper: &paper,
                 ranges: (&ranges, paper_range.0),
+                contact_counts: buffers.self_contact.as_ref().map(|c| &c.candidates),
             },
         );
         let momentum = Momentum::new(device, &kernels, (&ranges, free_parts), n as u32);

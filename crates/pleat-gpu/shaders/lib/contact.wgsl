@@ -1,0 +1,65 @@
+// Self-contacts' shared layout and geometry (contact_grid.wgsl finds the
+// candidate pairs, self_contact.wgsl solves them).
+//
+// candidates: a header, then the pairs found at the last build, two words
+// each: a particle, then a triangle or, with PARTICLE_PAIR set, a particle.
+// rest: [0, N) rest positions with the cloth's index in w, [N, 2N) the
+// positions at the last build.
+
+// Header words of `candidates`: the pairs found at the last build;
+// nonzero while no particle has moved half the margin since that build;
+// then counters the host reads back and clears: the candidates solved
+// and the contacts that acted, summed over substeps, and the builds; then
+// the least and the greatest displacement since the build along each axis
+// (as keys ordered as the floats are).
+const FOUND: u32 = 0u;
+const FRESH: u32 = 1u;
+const SOLVED: u32 = 2u;
+const ACTED: u32 = 3u;
+const BUILDS: u32 = 4u;
+const LEAST: u32 = 6u;
+const GREATEST: u32 = 9u;
+const HEADER: u32 = 12u;
+// A candidate's second word names a particle, not a triangle.
+const PARTICLE_PAIR: u32 = 0x80000000u;
+
+fn triangle(k: u32) -> vec3<u32> {
+    return vec3<u32>(topology[3u * k], topology[3u * k + 1u], topology[3u * k + 2u]);
+}
+
+// Closest point on triangle abc to p, as barycentric weights (Ericson 2005).
+fn closest_barycentric(p: vec3<f32>, a: vec3<f32>, b: vec3<f32>, c: vec3<f32>) -> vec3<f32> {
+    let ab = b - a;
+    let ac = c - a;
+    let ap = p - a;
+    let d1 = dot(ab, ap);
+    let d2 = dot(ac, ap);
+    if d1 <= 0.0 && d2 <= 0.0 { return vec3<f32>(1.0, 0.0, 0.0); }
+    let bp = p - b;
+    let d3 = dot(ab, bp);
+    let d4 = dot(ac, bp);
+    if d3 >= 0.0 && d4 <= d3 { return vec3<f32>(0.0, 1.0, 0.0); }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        let v = d1 / (d1 - d3);
+        return vec3<f32>(1.0 - v, v, 0.0);
+    }
+    let cp = p - c;
+    let d5 = dot(ab, cp);
+    let d6 = dot(ac, cp);
+    if d6 >= 0.0 && d5 <= d6 { return vec3<f32>(0.0, 0.0, 1.0); }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        let w = d2 / (d2 - d6);
+        return vec3<f32>(1.0 - w, 0.0, w);
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return vec3<f32>(0.0, 1.0 - w, w);
+    }
+    let denom = 1.0 / (va + vb + vc);
+    let v = vb * denom;
+    let w = vc * denom;
+    return vec3<f32>(1.0 - v - w, v, w);
+}
