@@ -38,8 +38,14 @@ fn arm_build() {
 // Arms the solve over the candidates kept.
 @compute @workgroup_size(1)
 fn arm_solve() {
-    let kept = min(atomicLoad(&candidates[FOUND]), params.contact_capacity);
+    let found = atomicLoad(&candidates[FOUND]);
+    let kept = min(found, params.contact_capacity);
     atomicAdd(&candidates[SOLVED], kept);
+    // Once a build: the counts stay until the next.
+    if found > params.contact_capacity && atomicLoad(&candidates[FRESH]) == 1u {
+        atomicStore(&candidates[FRESH], 2u);
+        atomicAdd(&candidates[OVERFLOWS], 1u);
+    }
     let groups = (kept + WORKGROUP - 1u) / WORKGROUP;
     let solve = 3u * BUILD_KERNELS;
     args[solve] = min(groups, MAX_GROUPS);

@@ -98,7 +98,7 @@ pub struct HealthWatch {
     /// with the result and are cleared then.
     contact_counts: Option<wgpu::Buffer>,
     /// The counters that came back and have not been taken yet.
-    arrived_counts: ContactCounts,
+    arrived_counts: Option<ContactCounts>,
 }
 
 /// The self-contacts' counters read back, summed over substeps since the
@@ -111,12 +111,15 @@ pub struct ContactCounts {
     pub acted: u64,
     /// Builds of the candidates.
     pub builds: u64,
+    /// Builds that found more pairs than the buffer holds.
+    pub overflows: u64,
 }
 
 /// Bytes of the result read back: the summary, then the counters' words
-/// of the candidates' header (lib/contact.wgsl: solved, acted, builds).
+/// of the candidates' header (lib/contact.wgsl: solved, acted, builds,
+/// overflows).
 const SUMMARY_BYTES: u64 = size_of::<Summary>() as u64;
-const COUNTERS: std::ops::Range<u64> = 8..20;
+const COUNTERS: std::ops::Range<u64> = 8..24;
 
 /// What [`HealthWatch::new`] binds besides its own buffers.
 pub struct HealthInputs<'a> {
@@ -179,7 +182,7 @@ impl HealthWatch {
             measuring: None,
             in_flight: None,
             contact_counts: contact_counts.cloned(),
-            arrived_counts: ContactCounts::default(),
+            arrived_counts: None,
         }
     }
 
@@ -226,9 +229,9 @@ impl HealthWatch {
         2
     }
 
-    /// The self-contacts' counters that came back since the last call.
-    pub fn take_contact_counts(&mut self) -> ContactCounts {
-        std::mem::take(&mut self.arrived_counts)
+    /// The self-contacts' counters that came back since the last call, if any did.
+    pub fn take_contact_counts(&mut self) -> Option<ContactCounts> {
+        self.arrived_counts.take()
     }
 
     /// After the frame's submission: asks for its result, if it was measured.
@@ -252,11 +255,13 @@ impl HealthWatch {
             ARRIVED => {
                 let summary = self.readback.get_mapped_range(..).ok().map(|data| {
                     let (summary, counters) = data.split_at(SUMMARY_BYTES as usize);
-                    let [candidates, acted, builds]: [u32; 3] =
+                    let [candidates, acted, builds, overflows]: [u32; 4] =
                         bytemuck::pod_read_unaligned(counters);
-                    self.arrived_counts.candidates += u64::from(candidates);
-                    self.arrived_counts.acted += u64::from(acted);
-                    self.arrived_counts.builds += u64::from(builds);
+                    let arrived = self.arrived_counts.get_or_insert_default();
+                    arrived.candidates += u64::from(candidates);
+                    arrived.acted += u64::from(acted);
+                    arrived.builds += u64::from(builds);
+                    arrived.overflows += u64::from(overflows);
                     *bytemuck::from_bytes::<Summary>(summary)
                 });
                 self.readback.unmap();

@@ -28,6 +28,7 @@ use pleat::solver::{SolverSettings, StageTimes};
 use pleat::{Backend, Particles, World};
 
 mod bindings;
+mod contact_margin;
 mod persistent;
 mod projection;
 mod readback;
@@ -35,6 +36,7 @@ mod record;
 mod resources;
 
 use bindings::Stages;
+use contact_margin::ContactMargin;
 use record::FrameData;
 use resources::{KernelBuffers, PerSubstep};
 
@@ -46,6 +48,8 @@ pub struct GpuBackend {
     context: GpuContext,
     kernels: Kernels,
     counts: Counts,
+    /// The self-contacts' margin, where there are self-contacts.
+    contact_margin: Option<ContactMargin>,
     constraint_count: usize,
     pos: wgpu::Buffer,
     prev: wgpu::Buffer,

@@ -6,6 +6,7 @@ use super::bindings::{SelfContactStage, Stage, StrainLimitStages};
 use super::resources::BUILD_KERNELS;
 use super::GpuBackend;
 use crate::data::{self, GpuPose, Params};
+use crate::health::ContactCounts;
 use crate::kernels::{workgroups, COMPLIANCE_SLOTS, UNIFORM_STRIDE};
 use crate::timing::TimedStage;
 use pleat::collide::ColliderPose;
@@ -104,9 +105,12 @@ impl GpuBackend {
             t.collect(stages);
         }
         let counts = self.health.take_contact_counts();
-        stages.self_contact_candidates += counts.candidates;
-        stages.self_contacts += counts.acted;
-        stages.self_contact_builds += counts.builds;
+        if let Some(c) = counts {
+            stages.self_contact_candidates += c.candidates;
+            stages.self_contacts += c.acted;
+            stages.self_contact_builds += c.builds;
+        }
+        self.choose_contact_margin(settings.substeps, counts);
         self.hold_fold(control.fold.held);
         let substeps = self.write_frame(world, (settings, compliances), control);
         let persistent = self.runs_persistent(world, control, substeps);
@@ -166,6 +170,23 @@ impl GpuBackend {
         }
         // Frees the resources of finished frames without waiting.
         let _ = self.context.device.poll(wgpu::PollType::Poll);
+    }
+
+    /// Sets the self-contacts' margin for this frame of `substeps`
+    /// substeps from the counts that came back; a new margin makes the
+    /// candidates stale.
+    fn choose_contact_margin(&mut self, substeps: u32, counts: Option<ContactCounts>) {
+        let (Some(margin), Some(contact)) = (&mut self.contact_margin, &self.buffers.self_contact)
+        else {
+            return;
+        };
+        if margin.frame(substeps, counts) {
+            (self.counts.contact_margin, self.counts.contact_cell) = margin.current();
+            let fresh = 4;
+            self.context
+                .queue
+                .write_buffer(&contact.candidates, fresh, bytemuck::bytes_of(&0u32));
+        }
     }
 
     /// Whether the frame runs as the persistent kernel's one dispatch: the

@@ -5,6 +5,7 @@
 //! fold's strain limits change.
 
 use super::bindings::Stages;
+use super::contact_margin::ContactMargin;
 use super::persistent::{self, Persistent};
 use super::projection::{
     jacobi_projection, xpbd_projection, ConstraintBuffers, ConstraintKind, Projection,
@@ -116,7 +117,9 @@ pub(super) struct SelfContactBuffers {
     /// The indirect dispatches' workgroup counts: the build's, the solve's,
     /// then the build's when it runs.
     pub(super) args: wgpu::Buffer,
+    /// Hash grid cell size with the margin, and without.
     pub(super) cell: f32,
+    pub(super) narrow_cell: f32,
     /// Hash table size: a power of two, a multiple of the scan block.
     pub(super) buckets: u32,
     pub(super) margin: f32,
@@ -155,7 +158,7 @@ const CONTACT_EXCLUSION: f32 = 2.0;
 /// and cloth compressed by up to an eighth, gives no candidates.
 const CONTACT_MARGIN: f32 = 0.75;
 /// Candidate pairs per particle kept at most.
-const CANDIDATES_PER_PARTICLE: u64 = 8;
+const CANDIDATES_PER_PARTICLE: u64 = 16;
 /// Words of the candidates' header (`HEADER` in lib/contact.wgsl).
 const CANDIDATE_HEADER: u64 = 12;
 /// Kernels of a build (contact_grid.wgsl's, `check` aside).
@@ -190,7 +193,7 @@ impl SelfContactBuffers {
         let capacity = (CANDIDATES_PER_PARTICLE * u64::from(n))
             .min(largest / 8 - CANDIDATE_HEADER)
             .max(1);
-        let cell = CONTACT_EDGE_STRETCH * longest + thickness + margin;
+        let narrow_cell = CONTACT_EDGE_STRETCH * longest + thickness;
         SelfContactBuffers {
             grid: zeroed(device, "contact grid", grid_len * 4),
             topology: storage(device, "topology", &topology),
@@ -206,7 +209,8 @@ impl SelfContactBuffers {
                     | wgpu::BufferUsages::COPY_SRC,
                 mapped_at_creation: false,
             }),
-            cell,
+            cell: narrow_cell + margin,
+            narrow_cell,
             buckets,
             margin,
             exclusion,
@@ -538,6 +542,10 @@ impl GpuBackend {
             frame_data: FrameData::default(),
             stages,
             kernels,
+            contact_margin: buffers
+                .self_contact
+                .as_ref()
+                .map(|c| ContactMargin::new((c.margin, c.cell), (0.0, c.narrow_cell))),
             counts,
             constraint_count,
             pos,
