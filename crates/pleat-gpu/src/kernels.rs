@@ -63,16 +63,28 @@ pub struct Kernels {
     pub self_contact: SelfContactKernels,
 }
 
+/// Kernels of a self-contact build (contact_grid.wgsl's after `bound` and
+/// `check`), dispatched indirectly.
+pub const BUILD_KERNELS: usize = 7;
+
 /// The self-contact kernels.
 #[derive(Clone)]
 pub struct SelfContactKernels {
     /// `bound` and `check`, then the build's in the order they run:
     /// clear, count, scan_blocks, scan_sums, scan_add, scatter, find.
-    pub grid: [wgpu::ComputePipeline; 9],
+    pub grid: [wgpu::ComputePipeline; 2 + BUILD_KERNELS],
     /// The indirect dispatches' counts: arm_build, arm_solve.
     pub arm: [wgpu::ComputePipeline; 2],
     /// The solve: contacts, apply.
     pub solve: [wgpu::ComputePipeline; 2],
+}
+
+/// The pipelines of the first `N` entry points of `module`, in its order.
+fn entries<const N: usize>(
+    module: Module,
+    make: impl Fn(Module, &str) -> wgpu::ComputePipeline,
+) -> [wgpu::ComputePipeline; N] {
+    std::array::from_fn(|k| make(module, module.entry_points[k]))
 }
 
 fn storage(binding: u32) -> wgpu::BindGroupLayoutEntry {
@@ -196,22 +208,11 @@ impl Kernels {
             momentum: ["sum_blocks", "solve", "apply"]
                 .map(|e| pipeline(shaders::MOMENTUM, e, &with_kernel)),
             self_contact: SelfContactKernels {
-                grid: [
-                    "bound",
-                    "check",
-                    "clear",
-                    "count",
-                    "scan_blocks",
-                    "scan_sums",
-                    "scan_add",
-                    "scatter",
-                    "find",
-                ]
-                .map(|e| pipeline(shaders::CONTACT_GRID, e, &with_kernel)),
-                arm: ["arm_build", "arm_solve"]
-                    .map(|e| pipeline(shaders::CONTACT_DISPATCH, e, &with_kernel)),
-                solve: ["contacts", "apply"]
-                    .map(|e| pipeline(shaders::SELF_CONTACT, e, &with_kernel)),
+                grid: entries(shaders::CONTACT_GRID, |m, e| pipeline(m, e, &with_kernel)),
+                arm: entries(shaders::CONTACT_DISPATCH, |m, e| {
+                    pipeline(m, e, &with_kernel)
+                }),
+                solve: entries(shaders::SELF_CONTACT, |m, e| pipeline(m, e, &with_kernel)),
             },
             state_layout,
             kernel_layout,

@@ -3,11 +3,10 @@
 //! recorded as compute passes and submitted.
 
 use super::bindings::{SelfContactStage, Stage, StrainLimitStages};
-use super::resources::BUILD_KERNELS;
 use super::GpuBackend;
 use crate::data::{self, GpuPose, Params};
 use crate::health::ContactCounts;
-use crate::kernels::{workgroups, COMPLIANCE_SLOTS, UNIFORM_STRIDE};
+use crate::kernels::{workgroups, BUILD_KERNELS, COMPLIANCE_SLOTS, UNIFORM_STRIDE};
 use crate::timing::TimedStage;
 use pleat::collide::ColliderPose;
 use pleat::constraint::Compliances;

@@ -16,7 +16,7 @@ use crate::buffers::{storage, zeroed};
 use crate::context::{GpuContext, GpuError};
 use crate::data::{self, Counts, GpuCollider, GpuPose, Range};
 use crate::health::{HealthInputs, HealthWatch, PaperEdges};
-use crate::kernels::{workgroups, Kernels, COMPLIANCE_SLOTS, UNIFORM_STRIDE};
+use crate::kernels::{workgroups, Kernels, BUILD_KERNELS, COMPLIANCE_SLOTS, UNIFORM_STRIDE};
 use crate::momentum::Momentum;
 use crate::timing::Timestamps;
 use glam::Vec3;
@@ -161,8 +161,6 @@ const CONTACT_MARGIN: f32 = 0.75;
 const CANDIDATES_PER_PARTICLE: u64 = 16;
 /// Words of the candidates' header (`HEADER` in lib/contact.wgsl).
 const CANDIDATE_HEADER: u64 = 12;
-/// Kernels of a build (contact_grid.wgsl's, `check` aside).
-pub(super) const BUILD_KERNELS: usize = 7;
 
 impl SelfContactBuffers {
     pub(super) fn new(
