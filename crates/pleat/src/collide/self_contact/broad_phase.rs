@@ -1,24 +1,17 @@
-//! Broad phase of self-collision: the boxes of the clusters of patches
-//! ([`super::patches`]) go into a flat [`HashGrid`]; each pair of clusters
-//! whose boxes overlap, then each pair of their patches, is culled when it is
-//! one connected piece of surface with a narrow [`NormalCone`] (it cannot
-//! touch itself), else its vertex-triangle, particle and edge pairs near
-//! enough become candidate contacts, less the pairs the rest mesh excludes.
+//! Broad phase of self-collision, run every substep: the swept boxes of the
+//! clusters of patches ([`super::patches`]) go into a flat [`HashGrid`]; each
+//! pair of clusters whose boxes overlap, then each pair of their patches, is
+//! culled when it is one connected piece of surface with a narrow
+//! [`NormalCone`] (it cannot touch itself), else its
+//! vertex-triangle and particle pairs near enough, and the edge pairs that
+//! may have crossed, become candidate contacts, less the pairs the rest mesh
+//! excludes.
 //!
-//! The candidates serve several substeps (a Verlet list, Verlet 1967): they
-//! are found at reference positions, the midpoints of one substep's motion,
-//! each particle given a radius of [`MARGIN`] / 2 thicknesses plus half its
-//! motion, and hold every pair that can come within reach while each
-//! particle stays within its radius of its reference position;
-//! [`BroadPhase::track`] tells when one has left it and they must be found
-//! again. Boxes hold each particle's ball grown by half the reach, so two
-//! boxes overlap whenever their contents may come within it. Each candidate
-//! keeps its distance at the reference positions: while its particles have
-//! moved little, that bounds its distance in the substep
-//! ([`BroadPhase::may_reach`]), and most candidates are passed over without
-//! their exact distance.
+//! Boxes hold each particle's motion over the substep (its start and its
+//! predicted end) grown by half the thickness, so two boxes overlap whenever
+//! their contents may come within the thickness during the substep.
 //!
-//! Smooth cloth costs about one pass over its triangles per search, however
+//! Smooth cloth costs about one pass over its triangles per substep, however
 //! fast it moves; crumpled or layered cloth costs in proportion to the surface
 //! that lies close to other surface.
 //!
@@ -29,7 +22,7 @@
 //! patches while its normals stay within 60 degrees, which a cloth that
 //! barely stretches cannot do at this scale.
 
-use super::narrow_phase::{Contact, SLACK};
+use super::narrow_phase::{Contact, EdgePair};
 use super::normal_cone::NormalCone;
 use super::patches::Patches;
 use super::rest::RestNeighbourhood;
@@ -44,18 +37,18 @@ use std::f32::consts::PI;
 /// than the thickness are at most two thicknesses apart along the surface,
 /// which the rest exclusions already cover.
 const FLAT_CONE: f32 = PI / 3.0;
-/// Room, in thicknesses, that the particles have to move before the
-/// candidates are found again.
-const MARGIN: f32 = 0.5;
+/// Extra reach of proximity candidates, in thicknesses: room for the
+/// contacts' own corrections within the substep.
+const SLACK: f32 = 0.25;
 /// Grid cell size, in mean patch boxes.
 const CELL: f32 = 1.0;
 
 /// A patch over one substep.
 #[derive(Clone, Copy, Debug, Default)]
 struct PatchBound {
-    /// Box of its corners' boxes.
+    /// Swept box of its corners, grown by half the thickness.
     aabb: Aabb,
-    /// Cone of its triangle normals.
+    /// Cone of its triangle normals at the substep's end.
     cone: Smoothness,
 }
 
@@ -87,18 +80,13 @@ impl Smoothness {
     }
 }
 
-/// Bounds and the grid of cluster boxes, kept between substeps.
+/// Per-substep bounds and the grid of cluster boxes, kept between substeps.
 #[derive(Clone, Debug, Default)]
 pub(super) struct BroadPhase {
-    /// Per particle: where it was when the candidates were found, how far
-    /// it may move from there, and its box.
-    reference: Vec<Vec3>,
-    radius: Vec<f32>,
+    /// Per particle: swept box grown by half the thickness, and how far it moved.
     vertex_box: Vec<Aabb>,
-    /// Per particle, in the current substep: the larger of how far it is
-    /// from its reference position and how far it moves in the substep.
-    drift: Vec<f32>,
-    /// Per triangle: unit normal at the reference positions.
+    motion: Vec<f32>,
+    /// Per triangle: unit normal at the substep's end.
     normal: Vec<Vec3>,
     patch: Vec<PatchBound>,
     cluster: Vec<Smoothness>,
@@ -109,59 +97,17 @@ pub(super) struct BroadPhase {
     scratch: Vec<Scratch>,
 }
 
-/// One cluster's candidates and its feature buffers.
+/// One cluster's candidates of a substep and its feature buffers.
 #[derive(Clone, Debug, Default)]
 struct Scratch {
-    found: Vec<Candidate>,
+    found: Vec<Contact>,
     mine: Near,
     theirs: Near,
 }
 
-/// A candidate contact and the distance between its features at the
-/// reference positions.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Candidate {
-    pub contact: Contact,
-    distance: f32,
-}
-
 impl BroadPhase {
-    /// Measures how far each particle drifted for the substep from `x_prev`
-    /// to `x`; returns whether the candidates last found still hold every
-    /// contact of it: each particle stays within its radius of its reference
-    /// position, at both ends (and so on the way).
-    pub fn track(&mut self, x_prev: &[Vec3], x: &[Vec3]) -> bool {
-        if self.reference.len() != x.len() {
-            return false;
-        }
-        self.drift.resize(x.len(), 0.0);
-        (&mut self.drift, &self.reference, &self.radius, (x_prev, x))
-            .into_par_iter()
-            .with_min_len(4096)
-            .map(|(d, r, &radius, (p, q))| {
-                *d = r.distance(*q).max(p.distance(*q));
-                r.distance(*p) <= radius && r.distance(*q) <= radius
-            })
-            .reduce(|| true, |a, b| a && b)
-    }
-
-    /// Whether candidate `c` may come within `near` in the substep last
-    /// tracked, or have moved as far as it is apart (all a contact needs to
-    /// act): each of its features lies within the drift of its particles
-    /// of where it was, and moved no further.
-    pub fn may_reach(&self, c: &Candidate, near: f32) -> bool {
-        let drift = c
-            .contact
-            .particles()
-            .iter()
-            .map(|&k| self.drift[k as usize])
-            .fold(0.0, f32::max);
-        c.distance - 4.0 * drift < near
-    }
-
-    /// Replaces `out` with the candidate contacts of the substeps to come,
-    /// the first from `x_prev` to `x`, in an order that does not depend on
-    /// the thread count.
+    /// Replaces `out` with the candidate contacts of the substep from
+    /// `x_prev` to `x`, in an order that does not depend on the thread count.
     #[allow(clippy::too_many_arguments)]
     pub fn find(
         &mut self,
@@ -171,9 +117,9 @@ impl BroadPhase {
         x: &[Vec3],
         inv_mass: &[f32],
         thickness: f32,
-        out: &mut Vec<Candidate>,
+        out: &mut Vec<Contact>,
     ) {
-        self.refit(rest, patches, x_prev, x, thickness);
+        self.refit(rest, patches, x_prev, x, 0.5 * thickness);
         // A sequential sum: the cell size, and so the order candidates are
         // found in, is the same for any thread count.
         let total: f32 = self.cluster_box.iter().map(Aabb::extent).sum();
@@ -185,7 +131,7 @@ impl BroadPhase {
             rest,
             patches,
             bounds: self,
-            x: &self.reference,
+            x,
             inv_mass,
             thickness,
         };
@@ -200,42 +146,29 @@ impl BroadPhase {
         self.scratch = scratch;
     }
 
-    /// Reference positions, radii, boxes and normal cones of the patches.
+    /// Swept boxes and normal cones of the patches.
     fn refit(
         &mut self,
         rest: &RestNeighbourhood,
         patches: &Patches,
         x_prev: &[Vec3],
         x: &[Vec3],
-        thickness: f32,
+        half: f32,
     ) {
-        let (margin, half) = (0.5 * MARGIN * thickness, 0.5 * reach(thickness, 0.0, 0.0));
-        self.reference.resize(x.len(), Vec3::ZERO);
-        self.radius.resize(x.len(), 0.0);
         self.vertex_box.resize(x.len(), Aabb::EMPTY);
-        self.drift.resize(x.len(), 0.0);
-        let bounds = (
-            &mut self.reference,
-            &mut self.radius,
-            &mut self.vertex_box,
-            &mut self.drift,
-        );
-        bounds
+        self.motion.resize(x.len(), 0.0);
+        (&mut self.vertex_box, &mut self.motion, (x_prev, x))
             .into_par_iter()
-            .zip((x_prev, x))
             .with_min_len(1024)
-            .for_each(|((m, r, b, d), (&p, &q))| {
-                *m = p.midpoint(q);
-                *d = p.distance(q);
-                *r = margin + 0.5 * *d;
-                *b = Aabb::around(*m, *m).expanded(half + *r);
+            .for_each(|(b, m, (&p, &q))| {
+                *b = Aabb::around(p, q).expanded(half);
+                *m = p.distance(q);
             });
-        let reference = &self.reference;
         self.normal.resize(rest.triangles.len(), Vec3::ZERO);
         (&mut self.normal, &rest.triangles)
             .into_par_iter()
             .with_min_len(1024)
-            .for_each(|(n, t)| *n = unit_normal(t, reference));
+            .for_each(|(n, t)| *n = unit_normal(t, x));
         let (vertex_box, normal) = (&self.vertex_box, &self.normal);
         self.patch.resize(patches.len(), PatchBound::default());
         self.patch
@@ -270,13 +203,6 @@ impl BroadPhase {
     }
 }
 
-/// How close two features must be to be kept: within the thickness (and
-/// [`SLACK`] for what the contacts move them) once each has moved by up to
-/// its radius (`radius_a`, `radius_b`).
-fn reach(thickness: f32, radius_a: f32, radius_b: f32) -> f32 {
-    (1.0 + SLACK) * thickness + radius_a + radius_b
-}
-
 /// Unit normal of triangle `t`, zero when it is degenerate.
 fn unit_normal(t: &[u32; 3], x: &[Vec3]) -> Vec3 {
     let [a, b, c] = t.map(|k| x[k as usize]);
@@ -294,7 +220,7 @@ struct Scan<'a> {
 }
 
 /// The features of one patch whose boxes meet another patch's box, with
-/// their boxes and the largest radius of their particles.
+/// their boxes and how far their particles moved in the substep.
 #[derive(Clone, Debug, Default)]
 struct Near {
     vertices: Vec<(u32, Aabb, f32)>,
@@ -304,10 +230,10 @@ struct Near {
 
 impl Near {
     fn gather(&mut self, scan: &Scan, p: usize, other: &Aabb) {
-        let (vertex_box, radius) = (&scan.bounds.vertex_box, &scan.bounds.radius);
+        let (vertex_box, motion) = (&scan.bounds.vertex_box, &scan.bounds.motion);
         let feature = |v: &[u32]| {
             v.iter().fold((Aabb::EMPTY, 0.0f32), |(b, m), &k| {
-                (b.union(vertex_box[k as usize]), m.max(radius[k as usize]))
+                (b.union(vertex_box[k as usize]), m.max(motion[k as usize]))
             })
         };
         self.vertices.clear();
@@ -402,14 +328,16 @@ impl Scan<'_> {
         v.iter().any(|&k| self.inv_mass[k as usize] > 0.0)
     }
 
-    /// How close two features of radii `radius_a` and `radius_b` must be to
-    /// be kept.
-    fn reach(&self, radius_a: f32, radius_b: f32) -> f32 {
-        reach(self.thickness, radius_a, radius_b)
+    /// How close two features must be at the substep's end to be kept as a
+    /// proximity contact: within the thickness (and [`SLACK`] for what the
+    /// contacts move them), or further by as much as their particles moved
+    /// in the substep (each in a line), since they may have met on the way.
+    fn reach(&self, motion_a: f32, motion_b: f32) -> f32 {
+        (1.0 + SLACK) * self.thickness + motion_a + motion_b
     }
 
     /// Vertices of `a` against triangles of `b`.
-    fn vertex_triangle(&self, a: &Near, b: &Near, out: &mut Vec<Candidate>) {
+    fn vertex_triangle(&self, a: &Near, b: &Near, out: &mut Vec<Contact>) {
         for &(p, pb, pm) in &a.vertices {
             for &(tri, tb, tm) in &b.triangles {
                 let v = [p, tri[0], tri[1], tri[2]];
@@ -418,12 +346,8 @@ impl Scan<'_> {
                     && self.dynamic(&v)
                 {
                     let [xp, xa, xb, xc] = v.map(|k| self.x[k as usize]);
-                    let distance = ccd::point_triangle_distance(xp, xa, xb, xc);
-                    if distance < self.reach(pm, tm) {
-                        out.push(Candidate {
-                            contact: Contact::VertexTriangle(v),
-                            distance,
-                        });
+                    if ccd::point_triangle_distance(xp, xa, xb, xc) < self.reach(pm, tm) {
+                        out.push(Contact::VertexTriangle(v));
                     }
                 }
             }
@@ -431,26 +355,23 @@ impl Scan<'_> {
     }
 
     /// Particle pairs of `a` and `b`, each once (`same`: one patch).
-    fn particle_pairs(&self, a: &Near, b: &Near, same: bool, out: &mut Vec<Candidate>) {
+    fn particle_pairs(&self, a: &Near, b: &Near, same: bool, out: &mut Vec<Contact>) {
         for (k, &(i, ib, im)) in a.vertices.iter().enumerate() {
             let from = if same { k + 1 } else { 0 };
             for &(j, jb, jm) in &b.vertices[from..] {
-                if !ib.overlaps(&jb) || !self.dynamic(&[i, j]) || self.rest.pair_excluded(i, j) {
-                    continue;
-                }
-                let distance = self.x[i as usize].distance(self.x[j as usize]);
-                if distance < self.reach(im, jm) {
-                    out.push(Candidate {
-                        contact: Contact::Pair([i, j]),
-                        distance,
-                    });
+                if ib.overlaps(&jb)
+                    && self.x[i as usize].distance(self.x[j as usize]) < self.reach(im, jm)
+                    && self.dynamic(&[i, j])
+                    && !self.rest.pair_excluded(i, j)
+                {
+                    out.push(Contact::Pair([i, j]));
                 }
             }
         }
     }
 
     /// Edge pairs of `a` and `b` near enough, each once (`same`: one patch).
-    fn edge_pairs(&self, a: &Near, b: &Near, same: bool, out: &mut Vec<Candidate>) {
+    fn edge_pairs(&self, a: &Near, b: &Near, same: bool, out: &mut Vec<Contact>) {
         for (k, &(e, eb, em)) in a.edges.iter().enumerate() {
             let from = if same { k + 1 } else { 0 };
             for &(f, fb, fm) in &b.edges[from..] {
@@ -459,12 +380,16 @@ impl Scan<'_> {
                     continue;
                 }
                 let [a0, a1, b0, b1] = v.map(|k| self.x[k as usize]);
-                let distance = ccd::segment_distance(a0, a1, b0, b1);
+                let (s, u) = ccd::segment_closest_params(a0, a1, b0, b1);
+                let distance = a0.lerp(a1, s).distance(b0.lerp(b1, u));
                 if distance < self.reach(em, fm) {
-                    out.push(Candidate {
-                        contact: Contact::edge_edge(e, f),
-                        distance,
-                    });
+                    out.push(Contact::EdgeEdge(EdgePair {
+                        v,
+                        s,
+                        u,
+                        may_cross: distance <= em + fm,
+                        crossed: None,
+                    }));
                 }
             }
         }

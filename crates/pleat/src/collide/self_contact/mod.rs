@@ -2,15 +2,13 @@
 //! each XPBD substep after the cloth constraints:
 //!
 //! - `broad_phase`: the rest mesh is cut into small connected `patches`;
-//!   their boxes go into a flat hash grid, pairs of patches that are one
-//!   smooth piece of surface are culled by their `normal_cone`s, and the rest
-//!   give candidate particle-particle, vertex-triangle and edge-edge
-//!   contacts, less the pairs the `rest` mesh keeps apart. The candidates are
-//!   found with a margin and kept over the substeps that follow, until a
-//!   particle has moved further than the margin allows;
-//! - `narrow_phase`: each substep keeps the candidates that can act in it,
-//!   with continuous collision detection over the substep's motion, then
-//!   computes their corrections, with friction between layers.
+//!   each substep their swept boxes go into a flat hash grid, pairs of
+//!   patches that are one smooth piece of surface are culled by their
+//!   `normal_cone`s, and the rest give candidate particle-particle,
+//!   vertex-triangle and edge-edge contacts, less the pairs the `rest` mesh
+//!   keeps apart;
+//! - `narrow_phase`: each candidate's correction, with continuous
+//!   collision detection over the substep's motion and friction between layers.
 //!
 //! Solve (Jacobi): each contact computes its corrections from the same
 //! positions (in parallel); the few that act are then summed per particle in
@@ -28,9 +26,9 @@ mod rest;
 
 use super::Friction;
 use crate::model::Model;
-use broad_phase::{BroadPhase, Candidate};
+use broad_phase::BroadPhase;
 use glam::Vec3;
-use narrow_phase::{Contact, SLACK};
+use narrow_phase::Contact;
 use patches::Patches;
 use rayon::prelude::*;
 use rest::RestNeighbourhood;
@@ -96,9 +94,6 @@ pub struct SelfContacts {
     rest: RestNeighbourhood,
     patches: Patches,
     broad_phase: BroadPhase,
-    /// The broad phase's candidates, kept while it covers the motion.
-    candidates: Vec<Candidate>,
-    /// The substep's candidates.
     contacts: Vec<Contact>,
     /// Per contact: corrections of its particles, and whether it acted.
     delta: Vec<[Vec3; 4]>,
@@ -122,7 +117,6 @@ impl SelfContacts {
             patches: Patches::new(&rest),
             rest,
             broad_phase: BroadPhase::default(),
-            candidates: Vec::new(),
             contacts: Vec::new(),
             delta: Vec::new(),
             active: Vec::new(),
@@ -141,29 +135,21 @@ impl SelfContacts {
         inv_mass: &[f32],
     ) -> SelfContactStats {
         let start = Instant::now();
-        let thickness = self.settings.thickness;
-        if !self.broad_phase.track(x_prev, x) {
-            self.broad_phase.find(
-                &self.rest,
-                &self.patches,
-                x_prev,
-                x,
-                inv_mass,
-                thickness,
-                &mut self.candidates,
-            );
-        }
-        let broad_phase = start.elapsed();
-        let (xs, broad) = (&*x, &self.broad_phase);
-        let near = (1.0 + SLACK) * thickness;
-        self.contacts.clear();
-        self.contacts.par_extend(
-            self.candidates
-                .par_iter()
-                .with_min_len(MIN_TASK)
-                .filter(|c| broad.may_reach(c, near))
-                .filter_map(|c| c.contact.in_substep(xs, x_prev, thickness)),
+        self.broad_phase.find(
+            &self.rest,
+            &self.patches,
+            x_prev,
+            x,
+            inv_mass,
+            self.settings.thickness,
+            &mut self.contacts,
         );
+        let broad_phase = start.elapsed();
+        let xs: &[Vec3] = x;
+        self.contacts
+            .par_iter_mut()
+            .with_min_len(MIN_TASK)
+            .for_each(|c| c.detect_crossing(xs, x_prev));
         self.delta.resize(self.contacts.len(), [Vec3::ZERO; 4]);
         self.active.resize(self.contacts.len(), false);
         let mut stats = SelfContactStats {

@@ -14,11 +14,6 @@
 //!   held at the points where they met, along the separation they had at
 //!   the substep's start: `C = n . (p_a - p_b) - thickness >= 0`.
 //!
-//! Each substep keeps, of the broad phase's candidates, those that can act
-//! in it ([`Contact::in_substep`]): features within the thickness (and
-//! [`SLACK`]) at the substep's end, a vertex that changed sides of a
-//! triangle's plane on the way, edges that met on the way.
-//!
 //! Each contact also removes relative tangential motion (Coulomb friction,
 //! static then kinetic, as for colliders). Every correction is equal and
 //! opposite, weighted by inverse mass, so each contact keeps linear momentum.
@@ -28,10 +23,6 @@ use crate::collide::ccd::{self, Sweep};
 use crate::collide::Friction;
 use glam::Vec3;
 
-/// Extra reach of candidates, in thicknesses: room for the contacts' own
-/// corrections within the substep.
-pub(super) const SLACK: f32 = 0.25;
-
 /// An edge-edge contact: edge `a` is `v[0] v[1]`, edge `b` is `v[2] v[3]`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct EdgePair {
@@ -39,6 +30,9 @@ pub(super) struct EdgePair {
     /// Parameters of the contact points along each edge.
     pub s: f32,
     pub u: f32,
+    /// Whether the edges were close enough, given how far they moved, to
+    /// have crossed during the substep.
+    pub may_cross: bool,
     /// Once found to have crossed: the unit direction from `b` to `a` at the
     /// substep's start.
     pub crossed: Option<Vec3>,
@@ -61,54 +55,13 @@ impl Contact {
         }
     }
 
-    /// The edge pair `e f` as the broad phase finds it; its contact points
-    /// are set by [`Contact::in_substep`].
-    pub fn edge_edge(e: [u32; 2], f: [u32; 2]) -> Contact {
-        Contact::EdgeEdge(EdgePair {
-            v: [e[0], e[1], f[0], f[1]],
-            s: 0.0,
-            u: 0.0,
-            crossed: None,
-        })
-    }
-
-    /// The contact as a candidate of the substep from `x_prev` to `x`, if it
-    /// can act in it: its features are within `(1 + SLACK) thickness` at the
-    /// end, or a vertex crossed a triangle's plane (near enough, given how
-    /// far they moved, to have met it), or two edges crossed. Edge pairs get
-    /// their contact points (closest at the end, or where they met).
-    pub fn in_substep(&self, x: &[Vec3], x_prev: &[Vec3], thickness: f32) -> Option<Contact> {
-        let near = (1.0 + SLACK) * thickness;
-        let motion = |k: u32| x[k as usize].distance(x_prev[k as usize]);
-        let kept = match *self {
-            Contact::Pair([i, j]) => x[i as usize].distance(x[j as usize]) < near,
-            Contact::VertexTriangle(v) => {
-                let [p, a, b, c] = v.map(|k| x[k as usize]);
-                let distance = ccd::point_triangle_distance(p, a, b, c);
-                let reach =
-                    near + motion(v[0]) + v[1..].iter().map(|&k| motion(k)).fold(0.0, f32::max);
-                distance < near || (distance < reach && changed_side(v, x, x_prev))
+    /// Finds, once per substep, whether an edge pair crossed.
+    pub fn detect_crossing(&mut self, x: &[Vec3], x_prev: &[Vec3]) {
+        if let Contact::EdgeEdge(e) = self {
+            if e.may_cross {
+                e.detect_crossing(x, x_prev);
             }
-            Contact::EdgeEdge(e) => {
-                let [a0, a1, b0, b1] = e.v.map(|k| x[k as usize]);
-                let (s, u) = ccd::segment_closest_params(a0, a1, b0, b1);
-                let distance = a0.lerp(a1, s).distance(b0.lerp(b1, u));
-                let [ma0, ma1, mb0, mb1] = e.v.map(motion);
-                let mut pair = EdgePair {
-                    s,
-                    u,
-                    crossed: None,
-                    ..e
-                };
-                // Edges further apart than they moved cannot have met.
-                if distance <= ma0.max(ma1) + mb0.max(mb1) {
-                    pair.detect_crossing(x, x_prev);
-                }
-                return (distance < near || pair.crossed.is_some())
-                    .then_some(Contact::EdgeEdge(pair));
-            }
-        };
-        kept.then_some(*self)
+        }
     }
 
     /// The corrections of the contact's particles, if it acts.
@@ -125,17 +78,6 @@ impl Contact {
             Contact::EdgeEdge(e) => e.correction(x, x_prev, inv_mass, s),
         }
     }
-}
-
-/// Whether the vertex `v[0]` ended on the other side of the plane of the
-/// triangle `v[1..]` than it started.
-fn changed_side(v: [u32; 4], x: &[Vec3], x_prev: &[Vec3]) -> bool {
-    let height = |x: &[Vec3]| {
-        let [p, a, b, c] = v.map(|k| x[k as usize]);
-        (b - a).cross(c - a).dot(p - a)
-    };
-    let (before, after) = (height(x_prev), height(x));
-    before != 0.0 && (before < 0.0) != (after < 0.0)
 }
 
 impl EdgePair {
@@ -344,6 +286,19 @@ mod tests {
         assert!(side > 0.9 * s.thickness, "height {side}");
     }
 
+    /// The edge pair `v` as found at the end positions `x`.
+    fn edge_pair(v: [u32; 4], x: &[Vec3], may_cross: bool) -> Contact {
+        let [a0, a1, b0, b1] = v.map(|k| x[k as usize]);
+        let (s, u) = ccd::segment_closest_params(a0, a1, b0, b1);
+        Contact::EdgeEdge(EdgePair {
+            v,
+            s,
+            u,
+            may_cross,
+            crossed: None,
+        })
+    }
+
     #[test]
     fn crossed_edges_are_pulled_back_to_their_side_keeping_momentum() {
         // Edge a along x at y = 0.01 drops through edge b along z at y = 0.
@@ -359,9 +314,8 @@ mod tests {
         let inv_mass = [1.0, 2.0, 0.5, 1.0];
         let s = SelfCollision::default();
         let v = [0, 1, 2, 3];
-        let contact = Contact::edge_edge([0, 1], [2, 3])
-            .in_substep(&x, &x_prev, s.thickness)
-            .expect("crossed");
+        let mut contact = edge_pair(v, &x, true);
+        contact.detect_crossing(&x, &x_prev);
         let d = contact
             .correction(&x, &x_prev, &inv_mass, &s)
             .expect("crossed");
@@ -382,9 +336,8 @@ mod tests {
         ];
         let inv_mass = [1.0; 4];
         let s = SelfCollision::default();
-        let contact = Contact::edge_edge([0, 1], [2, 3])
-            .in_substep(&x, &x, s.thickness)
-            .expect("near");
+        let mut contact = edge_pair([0, 1, 2, 3], &x, false);
+        contact.detect_crossing(&x, &x);
         let d = contact.correction(&x, &x, &inv_mass, &s).expect("near");
         let gap = (x[0] + d[0]).y - (x[2] + d[2]).y;
         assert!((gap - s.thickness).abs() < 1e-5, "gap {gap}");
