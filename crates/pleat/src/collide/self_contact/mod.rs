@@ -12,11 +12,12 @@
 //!
 //! Solve (Jacobi): each contact computes its corrections from the same
 //! positions (in parallel); the few that act are then summed per particle in
-//! contact order, each scaled by a relaxation factor over the number of
-//! contacts that move its busiest particle (the averaging of Macklin et al. 2014,
-//! section 4.2, with one scale per contact so that the total momentum is
-//! kept): no atomics, bit-identical for any thread count. An iteration where
-//! no contact acts ends the solve.
+//! contact order (in parallel, each task owning a range of particles and
+//! reading every acting contact), each scaled by a relaxation factor over
+//! the number of contacts that move its busiest particle (the averaging of
+//! Macklin et al. 2014, section 4.2, with one scale per contact so that the
+//! total momentum is kept): no atomics, bit-identical for any thread count.
+//! An iteration where no contact acts ends the solve.
 
 mod broad_phase;
 mod narrow_phase;
@@ -104,6 +105,8 @@ pub struct SelfContacts {
     /// (zero again once applied).
     sum: Vec<Vec3>,
     count: Vec<u32>,
+    /// Per acting contact: the scale of its corrections.
+    scale: Vec<f32>,
 }
 
 impl SelfContacts {
@@ -123,6 +126,7 @@ impl SelfContacts {
             acting: Vec::new(),
             sum: vec![Vec3::ZERO; n],
             count: vec![0; n],
+            scale: Vec::new(),
         }
     }
 
@@ -205,34 +209,75 @@ impl SelfContacts {
     /// contact scaled by the relaxation over the largest number of acting
     /// contacts that move one of its particles (Macklin et al. 2014 average per
     /// particle; a common scale per contact keeps its corrections equal and
-    /// opposite, so the total momentum is kept). Summed in contact order, so
-    /// the result does not depend on the thread count.
+    /// opposite, so the total momentum is kept). Each task owns a range of
+    /// particles and sums their corrections in contact order, so the result
+    /// does not depend on the thread count.
     fn gather(&mut self, x: &mut [Vec3]) {
-        for &k in &self.acting {
-            let c = &self.contacts[k as usize];
-            for (&p, d) in c.particles().iter().zip(self.delta[k as usize]) {
-                self.count[p as usize] += u32::from(d != Vec3::ZERO);
-            }
-        }
-        for &k in &self.acting {
-            let particles = self.contacts[k as usize].particles();
-            let most = particles
+        let chunk = x.len().div_ceil(rayon::current_num_threads()).max(1);
+        let acting = Acting {
+            acting: &self.acting,
+            contacts: &self.contacts,
+            delta: &self.delta,
+        };
+        self.count
+            .par_chunks_mut(chunk)
+            .enumerate()
+            .for_each(|(c, count)| {
+                acting.for_each_in(c * chunk, count.len(), |_, p, d| {
+                    count[p] += u32::from(d != Vec3::ZERO);
+                });
+            });
+        let count = &self.count;
+        self.scale.clear();
+        self.scale.par_extend(acting.acting.par_iter().map(|&k| {
+            let most = acting.contacts[k as usize]
+                .particles()
                 .iter()
-                .map(|&p| self.count[p as usize])
+                .map(|&p| count[p as usize])
                 .max()
                 .unwrap_or(1)
                 .max(1);
-            let scale = RELAXATION / most as f32;
+            RELAXATION / most as f32
+        }));
+        let scale = &self.scale;
+        let ranges = (
+            x.par_chunks_mut(chunk),
+            self.sum.par_chunks_mut(chunk),
+            self.count.par_chunks_mut(chunk),
+        );
+        ranges
+            .into_par_iter()
+            .enumerate()
+            .for_each(|(c, (x, sum, count))| {
+                acting.for_each_in(c * chunk, x.len(), |i, p, d| sum[p] += d * scale[i]);
+                acting.for_each_in(c * chunk, x.len(), |_, p, _| {
+                    x[p] += sum[p];
+                    sum[p] = Vec3::ZERO;
+                    count[p] = 0;
+                });
+            });
+    }
+}
+
+/// The acting contacts of an iteration and their corrections.
+struct Acting<'a> {
+    acting: &'a [u32],
+    contacts: &'a [Contact],
+    delta: &'a [[Vec3; 4]],
+}
+
+impl Acting<'_> {
+    /// Calls `f(i, p - start, d)` for each particle `p` in `start..start +
+    /// len` of the `i`-th acting contact and its correction `d`, in contact
+    /// order.
+    fn for_each_in(&self, start: usize, len: usize, mut f: impl FnMut(usize, usize, Vec3)) {
+        for (i, &k) in self.acting.iter().enumerate() {
+            let particles = self.contacts[k as usize].particles();
             for (&p, d) in particles.iter().zip(self.delta[k as usize]) {
-                self.sum[p as usize] += d * scale;
-            }
-        }
-        for &k in &self.acting {
-            for &p in self.contacts[k as usize].particles() {
-                let p = p as usize;
-                x[p] += self.sum[p];
-                self.sum[p] = Vec3::ZERO;
-                self.count[p] = 0;
+                let p = (p as usize).wrapping_sub(start);
+                if p < len {
+                    f(i, p, d);
+                }
             }
         }
     }
