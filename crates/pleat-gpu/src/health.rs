@@ -247,6 +247,13 @@ impl HealthWatch {
         self.in_flight = Some((time, state));
     }
 
+    /// Whether a result asked for has not arrived yet.
+    pub fn pending(&self) -> bool {
+        self.in_flight
+            .as_ref()
+            .is_some_and(|(_, state)| state.load(Ordering::Acquire) == PENDING)
+    }
+
     /// The result on its way, if it has arrived.
     pub fn collect(&mut self) -> Option<Health> {
         let (time, state) = self.in_flight.as_ref()?;

@@ -146,10 +146,19 @@ impl Backend for GpuBackend {
     }
 
     fn finish(&mut self, stages: &mut StageTimes) {
-        let _ = self
-            .context
-            .device
-            .poll(wgpu::PollType::wait_indefinitely());
+        // The health's map callback may only run on a later poll than the
+        // one that saw the frame finish (parallel tests polling one
+        // device), as the state's read back may: poll again a few times.
+        for _ in 0..readback::READBACK_POLLS {
+            let _ = self
+                .context
+                .device
+                .poll(wgpu::PollType::wait_indefinitely());
+            if !self.health.pending() {
+                break;
+            }
+            std::thread::yield_now();
+        }
         if let Some(t) = &mut self.timestamps {
             t.collect(stages);
         }

@@ -8,10 +8,11 @@ use glam::Vec3;
 use pleat::Particles;
 
 /// Polls a blocking read of the state makes before it reports the state
-/// lost ([`GpuBackend::read_state`]): eight were not always enough on
+/// lost ([`GpuBackend::read_state`]), and a frame's finish before it leaves
+/// the health on its way: eight were not always enough on
 /// lavapipe with the devices of parallel tests busy (a CI check lost the
 /// crane's state after 30 frames); a poll of an idle device is cheap.
-const READBACK_POLLS: u32 = 10_000;
+pub(super) const READBACK_POLLS: u32 = 10_000;
 
 impl GpuBackend {
     /// Reads the state back into `particles`, blocking until it arrives.
