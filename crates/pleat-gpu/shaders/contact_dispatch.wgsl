@@ -7,6 +7,7 @@
 // args: [0, 3 BUILD_KERNELS) the build's counts, then the solve's three,
 // then the build's counts when it runs (written once by the host).
 @group(1) @binding(0) var<storage, read_write> args: array<u32>;
+// The triangles lib/contact.wgsl names (unread here).
 @group(1) @binding(1) var<storage, read_write> topology: array<u32>;
 @group(1) @binding(3) var<storage, read_write> candidates: array<atomic<u32>>;
 

@@ -8,7 +8,6 @@
 
 @group(1) @binding(0) var<storage, read_write> candidates: array<atomic<u32>>;
 @group(1) @binding(1) var<storage, read_write> topology: array<u32>;
-@group(1) @binding(2) var<storage, read_write> rest: array<vec4<f32>>;
 // Per particle: correction x, y, z in fixed point, and the contact count
 // (zero again once applied).
 @group(1) @binding(3) var<storage, read_write> accum: array<atomic<i32>>;
