@@ -279,7 +279,7 @@ fn crossings_every_10_frames(scene: &pleat::scene::Scene, frames: u32) -> Vec<us
 }
 
 /// A napkin folded in half lies on the floor; a sphere moving at 10 m/s
-/// grazes its top layer and drags it over the bottom one.
+/// grazes its top layer on the way past (the napkin hardly moves).
 const FAST_SPHERE: &str = r#"{ "name": "fast_sphere", "frames": 60, "fps": 60,
     "solver": { "substeps": 10, "damping": 0.1,
                 "self_collision": { "enabled": true, "thickness": 0.008 } },
@@ -292,7 +292,7 @@ const FAST_SPHERE: &str = r#"{ "name": "fast_sphere", "frames": 60, "fps": 60,
       { "shape": { "plane": {} }, "friction": { "static": 0.6, "kinetic": 0.5 } } ] }"#;
 
 #[test]
-fn a_sphere_at_10_m_s_drags_a_folded_cloth_without_crossings_on_the_gpu() {
+fn a_sphere_at_10_m_s_grazing_a_folded_cloth_leaves_no_crossings_on_the_gpu() {
     let mut scene = scene(FAST_SPHERE);
     let on = crossings_every_10_frames(&scene, scene.frames);
     assert!(on.iter().all(|&n| n == 0), "{on:?}");
