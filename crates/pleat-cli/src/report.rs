@@ -127,10 +127,12 @@ pub fn dispatches_per_frame(sim: &Simulation, frames: u32) -> Option<f64> {
 }
 
 /// Builds of the self-contact candidates per frame of a run of `frames`
-/// frames, where the backend keeps them over substeps (a GPU backend's
-/// self-collision); `None` elsewhere.
+/// frames (the substeps per frame where the backend builds them every
+/// substep); `None` without self-collision.
 pub fn self_contact_builds_per_frame(sim: &Simulation, frames: u32) -> Option<f64> {
-    (sim.settings.self_collision.enabled && sim.backend().dispatches_per_frame().is_some())
+    sim.settings
+        .self_collision
+        .enabled
         .then(|| sim.stages.self_contact_builds as f64 / f64::from(frames.max(1)))
 }
 

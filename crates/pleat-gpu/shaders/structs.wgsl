@@ -46,7 +46,7 @@ struct Params {
     contact_margin: f32,
     contact_exclusion: f32,
     contact_capacity: u32,
-    pad: u32,
+    max_fold_angle: f32,
 }
 
 // The slice of a constraint array one dispatch works on (one colour;

@@ -51,7 +51,8 @@ pub struct Params {
     pub contact_margin: f32,
     pub contact_exclusion: f32,
     pub contact_capacity: u32,
-    pub pad: u32,
+    /// Largest angle a crease is driven to (radians), `FoldDrive::max_angle`.
+    pub max_fold_angle: f32,
 }
 
 /// What [`Params::at`] needs besides the world and the settings.
@@ -114,7 +115,7 @@ impl Params {
             contact_margin: counts.contact_margin,
             contact_exclusion: counts.contact_exclusion,
             contact_capacity: counts.contact_capacity,
-            pad: 0,
+            max_fold_angle: control.fold.max_angle(),
         }
     }
 }

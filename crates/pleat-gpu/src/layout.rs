@@ -87,7 +87,7 @@ fn params_match_wgsl() {
         turbulence_frequency, grab_particle, grab_target, grab_compliance,
         relaxation, contact_cell, contact_thickness, contact_buckets,
         contact_static, contact_kinetic, fold_held, opaque_zero,
-        contact_margin, contact_exclusion, contact_capacity, pad,
+        contact_margin, contact_exclusion, contact_capacity, max_fold_angle,
     });
 }
 

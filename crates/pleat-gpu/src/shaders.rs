@@ -229,7 +229,7 @@ mod tests {
     /// The kernels' copies of the core's constants are the core's.
     #[test]
     fn constants_are_the_cores() {
-        use pleat::constraint::hinge::{MAX_TARGET_ANGLE, STIFFENING_ANGLE};
+        use pleat::constraint::hinge::STIFFENING_ANGLE;
         use pleat::solver::xpbd::{
             FOLD_HOLD_SWEEPS, MAX_STRAIN_LIMIT_SWEEPS, STRAIN_LIMIT_SLACK, STRAIN_LIMIT_SWEEPS,
         };
@@ -242,7 +242,6 @@ mod tests {
             ),
             (DISTANCE, "STRAIN_LIMIT_SLACK", STRAIN_LIMIT_SLACK as f64),
             (DISTANCE, "FOLD_HOLD_SWEEPS", FOLD_HOLD_SWEEPS as f64),
-            (HINGE, "MAX_TARGET_ANGLE", MAX_TARGET_ANGLE as f64),
             (HINGE, "STIFFENING_ANGLE", STIFFENING_ANGLE as f64),
         ];
         for (m, name, core) in pairs {

@@ -136,7 +136,12 @@ fn a_folding_crane_keeps_no_angular_momentum_on_the_gpu() {
         progress: 1.0,
         frames: 120,
     };
-    let mut sim = paper_simulation_on((model, world), Box::new(backend), ramp);
+    let mut sim = paper_simulation_on(
+        (model, world),
+        paper_solver_settings(),
+        Box::new(backend),
+        ramp,
+    );
     for _ in 0..30 {
         sim.step(1.0 / 60.0);
     }
@@ -390,6 +395,7 @@ fn the_health_reduction_measures_what_the_core_does() {
         fold: FoldDrive {
             progress: 0.8,
             held: false,
+            flat: false,
         },
         ..Control::frame(scene.frame_dt())
     };

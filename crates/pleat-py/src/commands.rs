@@ -28,11 +28,13 @@ fn format(format: &str) -> PyResult<Format> {
 /// such as "miura-ori") as paper, as `pleat fold` does: the progress rises
 /// from 0 to `progress` over `frames` frames, then 60 frames settle. With
 /// `out`, writes the meshes and report.json there; with `fold_out`, the
-/// folded state as FOLD. Returns report.json's fields as a dict.
+/// folded state as FOLD; with `thickness` (m, on the sheet scaled to 1 m),
+/// its layers are kept that far apart. Returns report.json's fields as a
+/// dict.
 #[pyfunction]
 #[pyo3(signature = (
     pattern, progress = 1.0, frames = 120, backend = "cpu".to_owned(), threads = None,
-    out = None, format = "obj", every = 1, fold_out = None
+    out = None, format = "obj", every = 1, fold_out = None, thickness = 0.0
 ))]
 #[allow(clippy::too_many_arguments)] // Python's keyword arguments, as the command's options.
 pub fn fold<'py>(
@@ -46,6 +48,7 @@ pub fn fold<'py>(
     format: &str,
     every: u32,
     fold_out: Option<PathBuf>,
+    thickness: f32,
 ) -> PyResult<Bound<'py, PyAny>> {
     if every == 0 {
         return Err(value_error("every must be at least 1"));
@@ -56,6 +59,7 @@ pub fn fold<'py>(
         frames,
         backend,
         fold_out,
+        thickness,
         output: OutputArgs {
             out,
             format: self::format(format)?,

@@ -16,7 +16,10 @@
 //! substep), `DAMP` (1/s), `STRETCH` (edge compliance per unit length), `MAX_STRAIN` (the edges'
 //! strain limit, 0 for none), `NOISE` (metres of
 //! random initial height), `MAX_EDGE` (metres: the sheet refined to
-//! triangles no larger). Output: `EVERY` (frames between lines, 20),
+//! triangles no larger), `THICK` (metres: the paper's thickness, its layers
+//! kept apart by self-contact; 0, the default, for none). Each line counts
+//! the self-intersections `x` and the self-contacts that acted so far
+//! (`acts`). Output: `EVERY` (frames between lines, 20),
 //! `WRONG=1` (each crease on the wrong side at each line), `LIST=1` (each
 //! hinge more than 10 degrees from its target at the end).
 
@@ -90,6 +93,9 @@ fn main() {
     settings.substeps = setting("SUB", settings.substeps as f32) as u32;
     settings.iterations = setting("ITER", settings.iterations as f32) as u32;
     settings.damping = setting("DAMP", settings.damping);
+    let thickness = setting("THICK", 0.0);
+    settings.self_collision.enabled = thickness > 0.0;
+    settings.self_collision.thickness = thickness;
     let mut sim = Simulation::new(model, world, settings);
     sim.fold_ramp = Some(FoldRamp {
         progress,
@@ -128,13 +134,18 @@ fn main() {
         }
         let wrong = states.iter().filter(|s| wrong_side(s, 0.1)).count();
         let e = m.max_fold_angle_error_deg;
+        let crossings = pleat::metrics::intersections::count_self_intersections(
+            &sim.particles.x,
+            &sim.model.triangles,
+        );
         println!(
-            "f {frame:3} c {:.3} err M {:6.1} V {:6.1} F {:6.1} strain {:.4} wrong {wrong} unstable {} ke {:.2e} L {:.2e}",
+            "f {frame:3} c {:.3} err M {:6.1} V {:6.1} F {:6.1} strain {:.4} wrong {wrong} x {crossings} acts {} unstable {} ke {:.2e} L {:.2e}",
             m.fold_progress,
             e.mountain,
             e.valley,
             e.flat,
             m.max_strain,
+            sim.stages.self_contacts,
             sim.stability.verdict().is_some(),
             sim.metrics().kinetic_energy,
             sim.particles.angular_momentum().length()
@@ -144,6 +155,18 @@ fn main() {
         "ms/frame {:.2}",
         start.elapsed().as_secs_f64() * 1000.0 / total as f64
     );
+    if flag("LISTX") {
+        let x = &sim.particles.x;
+        let tris = &sim.model.triangles;
+        for (a, b) in pleat::metrics::intersections::intersecting_pairs(x, tris) {
+            let [ta, tb] = [tris[a as usize], tris[b as usize]];
+            println!(
+                "crossing {ta:?} {tb:?}: {:?} / {:?}",
+                ta.map(|k| x[k as usize]),
+                tb.map(|k| x[k as usize])
+            );
+        }
+    }
     if flag("LIST") {
         let states = hinge_states(&sim.model, &sim.particles.x, sim.fold_progress());
         for s in &states {

@@ -23,6 +23,7 @@ impl Control {
             fold: FoldDrive {
                 progress: 0.0,
                 held: true,
+                flat: false,
             },
             grab: None,
         }

@@ -21,7 +21,7 @@ use crate::origami::fold::assignment_letter;
 use crate::origami::{Assignment, Hinge, Sheet};
 pub use crate::paper::{
     full_angle, paper_material, FoldRamp, Paper, PaperStiffness, PAPER_DENSITY, PAPER_MAX_STRAIN,
-    PAPER_STRETCH_COMPLIANCE, PAPER_VERTEX_MASS,
+    PAPER_STRETCH_COMPLIANCE, PAPER_THICKNESS, PAPER_VERTEX_MASS,
 };
 use crate::simulation::Simulation;
 use crate::solver::SolverSettings;
@@ -35,6 +35,19 @@ pub fn paper_solver_settings() -> SolverSettings {
         damping: 10.0,
         ..SolverSettings::default()
     }
+}
+
+/// [`paper_solver_settings`] with the paper's layers kept `thickness`
+/// apart (m; [`PAPER_THICKNESS`] is real paper's): self-contact between
+/// facets that do not touch in the flat sheet, with continuous detection
+/// and friction. A thickness of zero leaves self-contact off.
+pub fn paper_solver_settings_with_contact(thickness: f32) -> SolverSettings {
+    let mut settings = paper_solver_settings();
+    if thickness > 0.0 {
+        settings.self_collision.enabled = true;
+        settings.self_collision.thickness = thickness;
+    }
+    settings
 }
 
 impl Model {
@@ -78,14 +91,15 @@ pub fn paper_model(sheet: &Sheet) -> (Model, World) {
 }
 
 /// A simulation that folds `model` in `world` (from [`paper_model`]) on
-/// `backend` (built for them) with [`paper_solver_settings`], progress
-/// ramped by `ramp`.
+/// `backend` (built for them with `settings`, [`paper_solver_settings`] or
+/// [`paper_solver_settings_with_contact`]), progress ramped by `ramp`.
 pub fn paper_simulation_on(
     (model, world): (Model, World),
+    settings: SolverSettings,
     backend: Box<dyn Backend>,
     ramp: FoldRamp,
 ) -> Simulation {
-    let mut sim = Simulation::with_backend(model, world, paper_solver_settings(), backend);
+    let mut sim = Simulation::with_backend(model, world, settings, backend);
     sim.fold_ramp = Some(ramp);
     sim
 }
@@ -95,8 +109,9 @@ pub fn paper_simulation_on(
 /// `ramp`.
 pub fn paper_simulation(sheet: &Sheet, ramp: FoldRamp) -> Simulation {
     let (model, world) = paper_model(sheet);
-    let backend = Box::new(CpuBackend::new(&model, &paper_solver_settings()));
-    paper_simulation_on((model, world), backend, ramp)
+    let settings = paper_solver_settings();
+    let backend = Box::new(CpuBackend::new(&model, &settings));
+    paper_simulation_on((model, world), settings, backend, ramp)
 }
 
 /// One hinge of a paper part as folded now.

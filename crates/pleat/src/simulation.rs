@@ -211,6 +211,7 @@ impl Simulation {
             fold: FoldDrive {
                 progress: self.fold_progress,
                 held: !new_step && self.stepped_progress == self.fold_progress,
+                flat: self.settings.self_collision.enabled,
             },
             grab: self.grab,
         };

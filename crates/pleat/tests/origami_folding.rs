@@ -68,6 +68,7 @@ fn hinge_gradient_matches_finite_differences() {
     let held = FoldDrive {
         progress: 0.3,
         held: true,
+        flat: false,
     };
     let (c, grad) = hinge.evaluate(p.map(Vec3A::from), held).unwrap();
     let phi = dihedral_angle(p).unwrap().0;

@@ -6,7 +6,6 @@
 // creases are stiffening springs while the fold is held, flat hinges
 // linear. The includer binds `hinges` and `hinge_lambda`.
 
-const MAX_TARGET_ANGLE: f32 = 178.0 * PI / 180.0;
 const MAX_TRACKED_ANGLE: f32 = 1.25 * PI;
 const STIFFENING_ANGLE: f32 = PI / 2.0;
 
@@ -49,8 +48,8 @@ fn solve_hinge(j: u32) {
     }
     let target_angle = clamp(
         h.start_angle + params.progress * (h.full_angle - h.start_angle),
-        -MAX_TARGET_ANGLE,
-        MAX_TARGET_ANGLE,
+        -params.max_fold_angle,
+        params.max_fold_angle,
     );
     let error = unwrap_angle(h.angle, d.phi) - target_angle;
     let driven = h.full_angle != 0.0 || h.start_angle != 0.0;

@@ -160,9 +160,11 @@ def fold(
     format: Literal["obj", "ply", "glb"] = "obj",
     every: int = 1,
     fold_out: Optional[_Path] = None,
+    thickness: float = 0.0,
 ) -> Dict[str, Any]:
     """Folds a crease pattern (a .cp, .fold or .svg file, or a built-in such
-    as "miura-ori") as ``pleat fold`` does; returns report.json's fields."""
+    as "miura-ori") as ``pleat fold`` does (``thickness``: its
+    ``--thickness``); returns report.json's fields."""
 
 def bench(
     sizes: Sequence[int] = (64, 128, 256),

@@ -39,9 +39,11 @@ use super::xpbd::{alpha_tilde, project};
 use glam::{Vec3, Vec3A};
 use std::f32::consts::{PI, TAU};
 
-/// Largest fold angle a hinge is driven to (radians): 178 degrees, so that
-/// the layers of a flat fold meet at a small angle instead of lying in one
-/// plane, where a thickness-free sheet cannot tell which layer is on top.
+/// Largest fold angle a hinge is driven to (radians) in paper without a
+/// thickness: 178 degrees, so that the layers of a flat fold meet at a small
+/// angle instead of lying in one plane, where a thickness-free sheet cannot
+/// tell which layer is on top. Paper with a thickness ([`FoldDrive::flat`])
+/// is driven to 180, its contacts keeping the layers apart.
 pub const MAX_TARGET_ANGLE: f32 = 178.0 * PI / 180.0;
 
 /// Fold-angle error (radians) at which a driven crease's stiffening peaks:
@@ -96,12 +98,12 @@ impl OrigamiHinge {
 
     /// `c * full_angle`, capped at [`MAX_TARGET_ANGLE`] either way.
     pub fn target(full_angle: f32, c: f32) -> f32 {
-        Self::target_between(0.0, full_angle, c)
+        Self::target_between(0.0, full_angle, c, MAX_TARGET_ANGLE)
     }
 
-    /// `start + c * (end - start)`, capped at [`MAX_TARGET_ANGLE`] either way.
-    pub fn target_between(start: f32, end: f32, c: f32) -> f32 {
-        (start + c * (end - start)).clamp(-MAX_TARGET_ANGLE, MAX_TARGET_ANGLE)
+    /// `start + c * (end - start)`, capped at `max_angle` either way.
+    pub fn target_between(start: f32, end: f32, c: f32, max_angle: f32) -> f32 {
+        (start + c * (end - start)).clamp(-max_angle, max_angle)
     }
 
     /// Whether the hinge is a driven crease (stiffened while held): one
@@ -133,7 +135,12 @@ impl OrigamiHinge {
     /// while the fold is held ([`stiffened_error`]).
     #[inline]
     pub fn evaluate(&self, p: [Vec3A; 4], fold: FoldDrive) -> Option<(f32, [Vec3A; 4])> {
-        let target = Self::target_between(self.start_angle, self.full_angle, fold.progress);
+        let target = Self::target_between(
+            self.start_angle,
+            self.full_angle,
+            fold.progress,
+            fold.max_angle(),
+        );
         self.evaluate_to(p, target, fold.held)
     }
 
@@ -229,6 +236,7 @@ mod tests {
             let held = FoldDrive {
                 progress: 0.9,
                 held: true,
+                flat: false,
             };
             let p = pair(fold);
             let (c, grad) = h.evaluate(p.map(Vec3A::from), held).unwrap();
@@ -288,6 +296,7 @@ mod tests {
         let fold = FoldDrive {
             progress: 0.25,
             held: false,
+            flat: false,
         };
         let (c, _) = h.evaluate(pair(0.5).map(Vec3A::from), fold).unwrap();
         assert!(c.abs() < 1e-5, "{c}");
@@ -349,6 +358,7 @@ mod tests {
             fold: FoldDrive {
                 progress: 1.0,
                 held: true,
+                flat: false,
             },
             ..Substep::as_built(1.0, 1.0)
         };
@@ -372,6 +382,7 @@ mod tests {
         let held = FoldDrive {
             progress: 1.0,
             held: true,
+            flat: false,
         };
         let (c, grad) = h.evaluate(pair(1.2).map(Vec3A::from), held).unwrap();
         let (_, raw) = dihedral_angle_simd(pair(1.2).map(Vec3A::from)).unwrap();

@@ -76,6 +76,7 @@ impl Substep<'static> {
             fold: FoldDrive {
                 progress,
                 held: false,
+                flat: false,
             },
         }
     }
@@ -92,4 +93,19 @@ pub struct FoldDrive {
     /// driven crease is then a stiffening spring (see the module
     /// documentation).
     pub held: bool,
+    /// Whether flat folds are driven all the way to 180 degrees (paper with
+    /// a thickness, whose contacts keep the layers apart), not to
+    /// [`MAX_TARGET_ANGLE`](super::hinge::MAX_TARGET_ANGLE).
+    pub flat: bool,
+}
+
+impl FoldDrive {
+    /// The largest angle a crease is driven to (radians).
+    pub fn max_angle(&self) -> f32 {
+        if self.flat {
+            std::f32::consts::PI
+        } else {
+            super::hinge::MAX_TARGET_ANGLE
+        }
+    }
 }

@@ -120,8 +120,8 @@ pub struct StageTimes {
     pub self_contacts: u64,
     /// Self-contact candidates from the broad phase, summed over substeps.
     pub self_contact_candidates: u64,
-    /// Builds of the self-contact candidates, where the backend keeps them
-    /// over substeps (a GPU backend's), summed over frames.
+    /// Builds of the self-contact candidates (one a substep where the
+    /// backend does not keep them), summed over frames.
     pub self_contact_builds: u64,
     /// Compute dispatches recorded, summed over frames (a GPU backend's).
     pub dispatches: u64,

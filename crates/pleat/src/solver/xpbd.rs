@@ -385,6 +385,7 @@ impl Xpbd {
             });
             stages.self_contacts += found.active as u64;
             stages.self_contact_candidates += found.candidates as u64;
+            stages.self_contact_builds += u64::from(found.built);
             stages.self_broad_phase += found.broad_phase;
             stages.self_narrow_phase += found.narrow_phase;
             stages.self_solve += found.solve;

@@ -341,14 +341,16 @@ impl Scan<'_> {
         for &(p, pb, pm) in &a.vertices {
             for &(tri, tb, tm) in &b.triangles {
                 let v = [p, tri[0], tri[1], tri[2]];
-                if pb.overlaps(&tb)
+                if !pb.overlaps(&tb) || !self.dynamic(&v) {
+                    continue;
+                }
+                let [xp, xa, xb, xc] = v.map(|k| self.x[k as usize]);
+                // The rest exclusion last: it costs more than the distance
+                // on paper, whose pairs are mostly far apart.
+                if ccd::point_triangle_distance(xp, xa, xb, xc) < self.reach(pm, tm)
                     && !self.rest.vertex_triangle_excluded(p, tri)
-                    && self.dynamic(&v)
                 {
-                    let [xp, xa, xb, xc] = v.map(|k| self.x[k as usize]);
-                    if ccd::point_triangle_distance(xp, xa, xb, xc) < self.reach(pm, tm) {
-                        out.push(Contact::VertexTriangle(v));
-                    }
+                    out.push(Contact::VertexTriangle(v));
                 }
             }
         }
@@ -376,13 +378,13 @@ impl Scan<'_> {
             let from = if same { k + 1 } else { 0 };
             for &(f, fb, fm) in &b.edges[from..] {
                 let v = [e[0], e[1], f[0], f[1]];
-                if !eb.overlaps(&fb) || self.rest.edge_edge_excluded(e, f) || !self.dynamic(&v) {
+                if !eb.overlaps(&fb) || !self.dynamic(&v) {
                     continue;
                 }
                 let [a0, a1, b0, b1] = v.map(|k| self.x[k as usize]);
                 let (s, u) = ccd::segment_closest_params(a0, a1, b0, b1);
                 let distance = a0.lerp(a1, s).distance(b0.lerp(b1, u));
-                if distance < self.reach(em, fm) {
+                if distance < self.reach(em, fm) && !self.rest.edge_edge_excluded(e, f) {
                     out.push(Contact::EdgeEdge(EdgePair {
                         v,
                         s,

@@ -55,6 +55,25 @@ impl Contact {
         }
     }
 
+    /// Readies a kept candidate for the substep from `x_prev` to `x`, as the
+    /// broad phase finds a new one: an edge pair takes its closest points at
+    /// `x`, forgets an earlier crossing and may have crossed if it is no
+    /// further apart than its edges moved.
+    pub fn refresh(&mut self, x: &[Vec3], x_prev: &[Vec3]) {
+        if let Contact::EdgeEdge(e) = self {
+            let [a0, a1, b0, b1] = e.v.map(|k| x[k as usize]);
+            (e.s, e.u) = ccd::segment_closest_params(a0, a1, b0, b1);
+            let motion = |k: &[u32]| {
+                k.iter()
+                    .map(|&k| x[k as usize].distance(x_prev[k as usize]))
+                    .fold(0.0, f32::max)
+            };
+            let distance = a0.lerp(a1, e.s).distance(b0.lerp(b1, e.u));
+            e.may_cross = distance <= motion(&e.v[..2]) + motion(&e.v[2..]);
+            e.crossed = None;
+        }
+    }
+
     /// Finds, once per substep, whether an edge pair crossed.
     pub fn detect_crossing(&mut self, x: &[Vec3], x_prev: &[Vec3]) {
         if let Contact::EdgeEdge(e) = self {

@@ -4,16 +4,25 @@
 //! apart by its stretch and bending constraints, not by contacts).
 //!
 //! - particle pairs that share an edge or lie closer at rest than the thickness;
-//! - vertex-triangle and edge-edge pairs with two corners closer at rest than
-//!   [`TRIANGLE_EXCLUSION`] times (thickness + the cloth's longest rest edge):
-//!   sharp folds bring them near at odd angles, and the particle pairs handle them.
+//! - cloth: vertex-triangle and edge-edge pairs with two corners closer at rest
+//!   than [`TRIANGLE_EXCLUSION`] times (thickness + the cloth's longest rest
+//!   edge): sharp folds bring them near at odd angles, and the particle pairs
+//!   handle them;
+//! - paper (a crease pattern, whose triangles are large and whose layers fold
+//!   flat onto their neighbours): only pairs that share a particle or lie
+//!   closer at rest than [`PAPER_EXCLUSION`] times the thickness, so that a
+//!   flap folded onto the facet next to it is held a thickness away.
 
+use crate::collide::ccd;
 use crate::model::Model;
 use glam::Vec3;
 
 /// Vertex-triangle and edge-edge pairs closer at rest than this many
 /// (thickness + longest edge) never collide.
 const TRIANGLE_EXCLUSION: f32 = 2.0;
+/// Paper's vertex-triangle and edge-edge pairs closer at rest than this many
+/// thicknesses never collide.
+const PAPER_EXCLUSION: f32 = 2.0;
 
 #[derive(Clone, Debug, Default)]
 pub(super) struct RestNeighbourhood {
@@ -28,6 +37,9 @@ pub(super) struct RestNeighbourhood {
     pub mean_edge: Vec<f32>,
     /// Per cloth: rest distance below which two corners exclude a pair.
     triangle_exclusion: Vec<f32>,
+    /// Per cloth: whether it is paper (pairs excluded by their rest distance
+    /// itself, not their corners').
+    paper: Vec<bool>,
     thickness: f32,
 }
 
@@ -37,6 +49,7 @@ impl RestNeighbourhood {
         let mut cloth = vec![0; n];
         let mut triangle_exclusion = Vec::new();
         let mut mean_edge = Vec::new();
+        let mut paper = Vec::new();
         for (k, part) in model.cloths.iter().enumerate() {
             cloth[part.particles()].fill(k as u32);
             let lengths = model
@@ -51,7 +64,12 @@ impl RestNeighbourhood {
             } else {
                 thickness
             });
-            triangle_exclusion.push(TRIANGLE_EXCLUSION * (thickness + longest));
+            triangle_exclusion.push(if part.paper.is_some() {
+                PAPER_EXCLUSION * thickness
+            } else {
+                TRIANGLE_EXCLUSION * (thickness + longest)
+            });
+            paper.push(part.paper.is_some());
         }
         let edges: Vec<[u32; 2]> = model.edges.iter().map(|e| e.v).collect();
         let (ring_start, ring) = csr(n, edges.iter().flat_map(|&[a, b]| [(a, b), (b, a)]));
@@ -63,6 +81,7 @@ impl RestNeighbourhood {
             triangles: model.triangles.clone(),
             mean_edge,
             triangle_exclusion,
+            paper,
             thickness,
         }
     }
@@ -89,15 +108,30 @@ impl RestNeighbourhood {
             )
     }
 
+    /// Whether `p` and `q` are particles of one paper sheet.
+    fn same_paper(&self, p: u32, q: u32) -> bool {
+        let cloth = self.cloth[p as usize];
+        self.paper[cloth as usize] && cloth == self.cloth[q as usize]
+    }
+
     /// Whether vertex `p` never meets triangle `t`.
     pub fn vertex_triangle_excluded(&self, p: u32, t: [u32; 3]) -> bool {
         t.iter().any(|&k| self.corner_excludes(p, k))
+            || self.same_paper(p, t[0]) && {
+                let [a, b, c] = t.map(|k| self.rest[k as usize]);
+                let d = ccd::point_triangle_distance(self.rest[p as usize], a, b, c);
+                d < PAPER_EXCLUSION * self.thickness
+            }
     }
 
     /// Whether edges `e` and `f` never meet.
     pub fn edge_edge_excluded(&self, e: [u32; 2], f: [u32; 2]) -> bool {
         e.iter()
             .any(|&a| f.iter().any(|&b| self.corner_excludes(a, b)))
+            || self.same_paper(e[0], f[0]) && {
+                let [a0, a1, b0, b1] = [e[0], e[1], f[0], f[1]].map(|k| self.rest[k as usize]);
+                ccd::segment_distance(a0, a1, b0, b1) < PAPER_EXCLUSION * self.thickness
+            }
     }
 }
 
@@ -146,5 +180,41 @@ mod tests {
         assert!(!rest.corner_excludes(0, 15));
         assert!(rest.edge_edge_excluded([0, 1], [4, 5]));
         assert!(!rest.edge_edge_excluded([0, 1], [14, 15]));
+    }
+
+    /// Paper excludes a vertex-triangle or edge-edge pair exactly when it
+    /// shares a particle or lies closer at rest than two thicknesses, so
+    /// that a flap folded flat meets the facet next to it.
+    #[test]
+    fn paper_excludes_only_what_touches_at_rest() {
+        use crate::origami::{builtin, Sheet, SheetOptions};
+        let pattern = builtin("waterbomb-base").unwrap();
+        let sheet = Sheet::from_pattern(&pattern, &SheetOptions::default()).unwrap();
+        let (model, _) = crate::folding::paper_model(&sheet);
+        let x = &model.rest;
+        let edges: Vec<[u32; 2]> = model.edges.iter().map(|e| e.v).collect();
+        for thickness in [5e-4, 0.2] {
+            let rest = RestNeighbourhood::new(&model, thickness);
+            let limit = PAPER_EXCLUSION * thickness;
+            let mut colliding = 0;
+            for p in 0..x.len() as u32 {
+                for &t in &model.triangles {
+                    let [a, b, c] = t.map(|k| x[k as usize]);
+                    let near = t.contains(&p)
+                        || ccd::point_triangle_distance(x[p as usize], a, b, c) < limit;
+                    assert_eq!(rest.vertex_triangle_excluded(p, t), near, "{p} {t:?}");
+                    colliding += usize::from(!near);
+                }
+            }
+            for &e in &edges {
+                for &f in &edges {
+                    let [a0, a1, b0, b1] = [e[0], e[1], f[0], f[1]].map(|k| x[k as usize]);
+                    let near = e.iter().any(|k| f.contains(k))
+                        || ccd::segment_distance(a0, a1, b0, b1) < limit;
+                    assert_eq!(rest.edge_edge_excluded(e, f), near, "{e:?} {f:?}");
+                }
+            }
+            assert!(colliding > 0, "some pairs collide");
+        }
     }
 }
