@@ -23,6 +23,19 @@ def test_fold_returns_the_commands_report(tmp_path, run_cli):
     assert folded["frame_classes"] == ["foldedForm"] and folded["edges_foldAngle"]
 
 
+def test_fold_with_a_thickness_keeps_the_layers_apart_and_folds_flat():
+    def worst(report):
+        errors = report["origami"]["max_fold_angle_error_deg"]
+        return max(errors["mountain"], errors["valley"])
+
+    without = pleat.fold("waterbomb-base", frames=60)
+    report = pleat.fold("waterbomb-base", frames=60, thickness=0.0005)
+    assert without["self_contacts_per_frame"] == 0 and report["self_contacts_per_frame"] > 0
+    assert report["self_intersections"] == 0
+    # Creases go to 180 degrees with a thickness, to 178 without.
+    assert worst(report) < 1.0 < worst(without)
+
+
 def test_fold_refuses_bad_input():
     with pytest.raises(ValueError, match="--progress must be between 0 and 1"):
         pleat.fold("waterbomb-base", progress=2.0)
@@ -30,6 +43,8 @@ def test_fold_refuses_bad_input():
         pleat.fold("no-such-pattern")
     with pytest.raises(ValueError, match="unknown format"):
         pleat.fold("waterbomb-base", format="stl")
+    with pytest.raises(ValueError, match="--thickness must be at least 0"):
+        pleat.fold("waterbomb-base", thickness=-0.001)
 
 
 def test_bench_lines():

@@ -51,6 +51,8 @@ fn fold(pattern: &CreasePattern, thickness: f32) -> (Simulation, usize) {
 fn flat_folds_with_a_thickness_reach_180_degrees_without_crossing() {
     let patterns = [
         ("waterbomb-base", builtin("waterbomb-base").unwrap()),
+        ("miura-ori", builtin("miura-ori").unwrap()),
+        ("parallel-lines", builtin("parallel-lines").unwrap()),
         ("birdBase.svg", shared("birdBase.svg")),
         ("singlesquaretwist.svg", shared("singlesquaretwist.svg")),
         ("waterbomb.cp", shared("waterbomb.cp")),
