@@ -134,6 +134,7 @@ impl BroadPhase {
             x,
             inv_mass,
             thickness,
+            cull_across: !rest.has_paper(),
         };
         scratch
             .par_iter_mut()
@@ -217,6 +218,9 @@ struct Scan<'a> {
     x: &'a [Vec3],
     inv_mass: &'a [f32],
     thickness: f32,
+    /// Whether two touching pieces may be culled together (not where a
+    /// cloth is paper, see [`Scan::patches_culled`]).
+    cull_across: bool,
 }
 
 /// The features of one patch whose boxes meet another patch's box, with
@@ -310,17 +314,23 @@ impl Scan<'_> {
         if c == d {
             cluster[c].smooth()
         } else {
-            cluster[c].smooth_with(&cluster[d]) && self.patches.clusters_touch(c, d)
+            self.cull_across
+                && cluster[c].smooth_with(&cluster[d])
+                && self.patches.clusters_touch(c, d)
         }
     }
 
     /// Whether patches `a` and `q` lie in one smooth piece of surface.
+    /// Paper's patches are culled one by one only: around a vertex folded
+    /// flat, facets that touch at the vertex alone and face the same way
+    /// lie on top of one another (a flat-folded quarter of a square and the
+    /// opposite quarter), which two narrow cones do not rule out.
     fn patches_culled(&self, a: usize, q: usize) -> bool {
         let (pa, pq) = (&self.bounds.patch[a].cone, &self.bounds.patch[q].cone);
         if a == q {
             pa.smooth()
         } else {
-            pa.smooth_with(pq) && self.patches.touch(a, q as u32)
+            self.cull_across && pa.smooth_with(pq) && self.patches.touch(a, q as u32)
         }
     }
 

@@ -108,6 +108,11 @@ impl RestNeighbourhood {
             )
     }
 
+    /// Whether any cloth is paper.
+    pub fn has_paper(&self) -> bool {
+        self.paper.iter().any(|&p| p)
+    }
+
     /// Whether `p` and `q` are particles of one paper sheet.
     fn same_paper(&self, p: u32, q: u32) -> bool {
         let cloth = self.cloth[p as usize];
