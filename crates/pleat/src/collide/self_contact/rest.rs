@@ -7,12 +7,14 @@
 //! - cloth: vertex-triangle and edge-edge pairs with two corners closer at rest
 //!   than [`TRIANGLE_EXCLUSION`] times (thickness + the cloth's longest rest
 //!   edge): sharp folds bring them near at odd angles, and the particle pairs
-//!   handle them;
+//!   handle them; but not the layers of a cloth modelled folded over, close
+//!   in space yet far apart along the cloth ([`super::folded`]);
 //! - paper (a crease pattern, whose triangles are large and whose layers fold
 //!   flat onto their neighbours): only pairs that share a particle or lie
 //!   closer at rest than [`PAPER_EXCLUSION`] times the thickness, so that a
 //!   flap folded onto the facet next to it is held a thickness away.
 
+use super::folded::RestGraph;
 use crate::collide::ccd;
 use crate::model::Model;
 use glam::Vec3;
@@ -32,6 +34,10 @@ pub(super) struct RestNeighbourhood {
     /// Sorted one-ring of each particle (CSR).
     ring_start: Vec<u32>,
     ring: Vec<u32>,
+    /// Each particle's sorted partners in another layer of its cloth at
+    /// rest (CSR): close in space, far along the cloth.
+    layer_start: Vec<u32>,
+    layer: Vec<u32>,
     pub triangles: Vec<[u32; 3]>,
     /// Per cloth: mean rest edge length.
     pub mean_edge: Vec<f32>,
@@ -73,11 +79,24 @@ impl RestNeighbourhood {
         }
         let edges: Vec<[u32; 2]> = model.edges.iter().map(|e| e.v).collect();
         let (ring_start, ring) = csr(n, edges.iter().flat_map(|&[a, b]| [(a, b), (b, a)]));
+        let graph = RestGraph {
+            rest: &model.rest,
+            cloth: &cloth,
+            ring_start: &ring_start,
+            ring: &ring,
+            triangles: &model.triangles,
+        };
+        let corner_radius: Vec<f32> = (triangle_exclusion.iter().zip(&paper))
+            .map(|(&r, &paper)| if paper { 0.0 } else { r })
+            .collect();
+        let (layer_start, layer) = graph.layer_pairs(&corner_radius);
         RestNeighbourhood {
             cloth,
             rest: model.rest.clone(),
             ring_start,
             ring,
+            layer_start,
+            layer,
             triangles: model.triangles.clone(),
             mean_edge,
             triangle_exclusion,
@@ -105,7 +124,9 @@ impl RestNeighbourhood {
                 i,
                 j,
                 self.triangle_exclusion[self.cloth[i as usize] as usize],
-            )
+            ) && row(&self.layer_start, &self.layer, i as usize)
+                .binary_search(&j)
+                .is_err()
     }
 
     /// Whether any cloth is paper.
