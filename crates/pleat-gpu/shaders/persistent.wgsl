@@ -30,21 +30,6 @@ struct ParamsSlot {
     pad: array<vec4<u32>, 6>,
 }
 
-// What the frame runs: counts, then each colour's slice (first, count in
-// xy) of the hinges, then of the distances, then each free cloth's
-// particles.
-struct Program {
-    substeps: u32,
-    iterations: u32,
-    hinge_colours: u32,
-    distance_colours: u32,
-    hinge_count: u32,
-    distance_count: u32,
-    // Sweeps of the strain limits before the further ones; 0 for none.
-    strain_limit_sweeps: u32,
-    free_parts: u32,
-    slices: array<vec4<u32>, 256>,
-}
 
 // Invocations of the workgroup, set by the host (crate::backend::persistent).
 override THREADS: u32 = 64u;

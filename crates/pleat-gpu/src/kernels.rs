@@ -87,7 +87,7 @@ fn entries<const N: usize>(
     std::array::from_fn(|k| make(module, module.entry_points[k]))
 }
 
-fn storage(binding: u32) -> wgpu::BindGroupLayoutEntry {
+pub(crate) fn storage(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::COMPUTE,

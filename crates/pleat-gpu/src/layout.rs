@@ -2,6 +2,7 @@
 //! its WGSL struct in `shaders/structs.wgsl`, as naga computes it: the same
 //! size and every WGSL member at the offset of the Rust field it mirrors.
 
+use crate::backend::persistent::Program;
 use crate::data::{Attachment, GpuCollider, GpuPose, Params, Range};
 use crate::health::{PaperEdge, Summary};
 use crate::shaders::STRUCTS;
@@ -88,6 +89,14 @@ fn params_match_wgsl() {
         relaxation, contact_cell, contact_thickness, contact_buckets,
         contact_static, contact_kinetic, fold_held, opaque_zero,
         contact_margin, contact_exclusion, contact_capacity, max_fold_angle,
+    });
+}
+
+#[test]
+fn persistent_program_matches_wgsl() {
+    assert_mirrors!(Program as "Program" {
+        substeps, iterations, hinge_colours, distance_colours, hinge_count,
+        distance_count, strain_limit_sweeps, free_parts, slices,
     });
 }
 

@@ -29,7 +29,7 @@ use pleat::{Backend, Particles, World};
 
 mod bindings;
 mod contact_margin;
-mod persistent;
+pub(crate) mod persistent;
 mod projection;
 mod readback;
 mod record;

@@ -17,7 +17,7 @@ use super::projection::{ConstraintBuffers, ConstraintKind};
 use super::resources::RangeTable;
 use crate::buffers::entry;
 use crate::data::Range;
-use crate::kernels::{COMPLIANCE_SLOTS, UNIFORM_STRIDE};
+use crate::kernels::{storage, COMPLIANCE_SLOTS, UNIFORM_STRIDE};
 use crate::shaders;
 use crate::timing::{TimedStage, Timestamps};
 use bytemuck::{Pod, Zeroable};
@@ -35,20 +35,20 @@ const CPU_LANES: u32 = 8;
 /// Colour slices and free cloths the program holds (`slices`).
 const SLICES: usize = 256;
 
-/// What a frame of the persistent kernel runs (`Program` in
-/// persistent.wgsl): counts, then the colours' and free cloths' slices.
+/// What a frame of the persistent kernel runs (`Program` in structs.wgsl):
+/// counts, then the colours' and free cloths' slices.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
-struct Program {
-    substeps: u32,
-    iterations: u32,
-    hinge_colours: u32,
-    distance_colours: u32,
-    hinge_count: u32,
-    distance_count: u32,
-    strain_limit_sweeps: u32,
-    free_parts: u32,
-    slices: [[u32; 4]; SLICES],
+pub(crate) struct Program {
+    pub(crate) substeps: u32,
+    pub(crate) iterations: u32,
+    pub(crate) hinge_colours: u32,
+    pub(crate) distance_colours: u32,
+    pub(crate) hinge_count: u32,
+    pub(crate) distance_count: u32,
+    pub(crate) strain_limit_sweeps: u32,
+    pub(crate) free_parts: u32,
+    pub(crate) slices: [[u32; 4]; SLICES],
 }
 
 /// The hinges and distances of a sheet the persistent kernel can run.
@@ -276,16 +276,6 @@ fn program(sheet: &Sheet<'_>) -> Option<Program> {
 /// The kernel's two bind group layouts: the state with every substep's
 /// parameters, and the sheet's hinges, distances, turn round-off and program.
 fn layouts(device: &wgpu::Device) -> (wgpu::BindGroupLayout, wgpu::BindGroupLayout) {
-    let storage = |binding| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only: false },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    };
     let uniform = |binding, size: u64| wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::COMPUTE,
