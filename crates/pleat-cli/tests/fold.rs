@@ -22,6 +22,35 @@ fn pleat(args: &[&str]) -> (bool, String) {
     (out.status.success(), text)
 }
 
+/// A flat fold with a thickness writes its layer order: every stacked pair
+/// of faces once, above (+1) or below (-1) the other.
+#[test]
+fn a_flat_fold_writes_its_face_orders() {
+    let dir = scratch("face-orders");
+    let folded = dir.join("folded.fold");
+    let (ok, text) = pleat(&[
+        "fold",
+        "waterbomb-base",
+        "--thickness",
+        "0.0005",
+        "--fold-out",
+        folded.to_str().unwrap(),
+    ]);
+    assert!(ok, "{text}");
+    let fold: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&folded).unwrap()).unwrap();
+    let faces = fold["faces_vertices"].as_array().unwrap().len() as i64;
+    let orders = fold["faceOrders"].as_array().unwrap();
+    assert!(!orders.is_empty(), "{fold}");
+    for order in orders {
+        let [f, g, s] = [0, 1, 2].map(|k| order[k].as_i64().unwrap());
+        assert!(f < g && g < faces && (s == 1 || s == -1), "{order}");
+    }
+    // Read back as a crease pattern, the file checks like any other.
+    let (ok, text) = pleat(&["check", folded.to_str().unwrap()]);
+    assert!(ok, "{text}");
+}
+
 #[test]
 fn builtin_folds_and_reports_fold_angle_errors() {
     let dir = scratch("miura");

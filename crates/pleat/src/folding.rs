@@ -15,6 +15,7 @@ use crate::constraint::bending::{dihedral_angle, wrap_angle};
 use crate::fold_steps::HingeTargets;
 use crate::material::Material;
 use crate::mesh::Mesh;
+use crate::metrics::layer_order::face_orders;
 use crate::metrics::strain::facet_strain;
 use crate::model::{ClothPart, Model};
 use crate::origami::fold::assignment_letter;
@@ -345,8 +346,9 @@ impl FoldMetrics {
 /// indices) as a FOLD object (FOLD 1.1, one frame of class `foldedForm`):
 /// 3D vertex coordinates, the mesh's triangles as faces, and its edges with
 /// their assignment and fold angle now (`edges_foldAngle`, degrees, valley
-/// positive as the specification has it; 0 on boundary edges). `None` when
-/// `cloth` is not paper.
+/// positive as the specification has it; 0 on boundary edges), and the
+/// order of its stacked faces (`faceOrders`, see
+/// [`crate::metrics::layer_order`]). `None` when `cloth` is not paper.
 pub fn folded_state_fold(cloth: &ClothPart, x: &[Vec3]) -> Option<serde_json::Value> {
     let paper = cloth.paper.as_ref()?;
     let hinges: HashMap<[u32; 2], &Hinge> = paper
@@ -367,20 +369,26 @@ pub fn folded_state_fold(cloth: &ClothPart, x: &[Vec3]) -> Option<serde_json::Va
             None => ("B", 0.0),
         })
         .unzip();
-    let coords: Vec<[f32; 3]> = cloth.particles().map(|i| x[i].to_array()).collect();
+    let positions = &x[cloth.particles()];
+    let coords: Vec<[f32; 3]> = positions.iter().map(|p| p.to_array()).collect();
     let edges: Vec<[u32; 2]> = cloth.topology.edges.iter().map(|e| e.v).collect();
+    let orders: Vec<[i64; 3]> = face_orders(positions, &cloth.mesh.triangles)
+        .iter()
+        .map(|o| [o.f.into(), o.g.into(), o.s.into()])
+        .collect();
     Some(serde_json::json!({
         "file_spec": 1.1,
         "file_creator": "pleat",
         "file_classes": ["singleModel"],
         "frame_title": cloth.name,
         "frame_classes": ["foldedForm"],
-        "frame_attributes": ["3D"],
+        "frame_attributes": ["3D", "convexFaces"],
         "vertices_coords": coords,
         "edges_vertices": edges,
         "edges_assignment": assignments,
         "edges_foldAngle": angles,
         "faces_vertices": cloth.mesh.triangles,
+        "faceOrders": orders,
     }))
 }
 

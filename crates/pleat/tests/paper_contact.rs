@@ -94,3 +94,59 @@ fn the_miura_ori_crosses_itself_without_contact_and_not_with_it() {
         "paper keeps its candidates over substeps: {builds} builds in {substeps} substeps"
     );
 }
+
+/// The layer order of a flat fold follows its creases: across every crease
+/// folded flat (Origami Simulator's bird base leaves some at 90 degrees) the two faces are stacked, each on the side the other's
+/// normal points to for a valley and away from it for a mountain (FOLD's
+/// faceOrders +1 and -1 for faces wound as the sheet's are). A fold whose
+/// layers ended the wrong way round, or an order read the wrong way up,
+/// fails here.
+#[test]
+fn a_flat_fold_stacks_its_layers_as_its_creases_say() {
+    use pleat::metrics::layer_order::face_orders;
+    use pleat::origami::Assignment;
+    let patterns = [
+        ("single-line", builtin("single-line").unwrap()),
+        ("waterbomb-base", builtin("waterbomb-base").unwrap()),
+        ("birdBase.svg", shared("birdBase.svg")),
+    ];
+    for (name, pattern) in patterns {
+        let (sim, _) = fold(&pattern, PAPER_THICKNESS);
+        let (x, triangles) = (&sim.particles.x, &sim.model.triangles);
+        let orders = face_orders(x, triangles);
+        let face = |corners: [u32; 3]| {
+            let mut sorted = corners;
+            sorted.sort_unstable();
+            triangles.iter().position(|t| {
+                let mut t = *t;
+                t.sort_unstable();
+                t == sorted
+            })
+        };
+        let mut checked = 0;
+        for s in hinge_states(&sim.model, x, 1.0) {
+            let flat = s.target.is_some_and(|t| t.abs().to_degrees() > 179.0);
+            let expected = match s.assignment {
+                _ if !flat => continue,
+                Assignment::Valley => 1,
+                Assignment::Mountain => -1,
+                _ => continue,
+            };
+            let [a, b, c, d] = s.v;
+            let (Some(f), Some(g)) = (face([a, b, c]), face([a, b, d])) else {
+                panic!("{name}: hinge {:?} has no faces", s.v);
+            };
+            let (f, g) = (f.min(g) as u32, f.max(g) as u32);
+            let order = orders.iter().find(|o| o.f == f && o.g == g);
+            assert_eq!(
+                order.map(|o| o.s),
+                Some(expected),
+                "{name}: the faces across {:?} crease {:?}",
+                s.assignment,
+                s.v
+            );
+            checked += 1;
+        }
+        assert!(checked > 0, "{name}: no crease checked");
+    }
+}

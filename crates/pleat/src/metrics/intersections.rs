@@ -15,7 +15,7 @@
 //!
 //! The work is single-threaded and allocation is O(triangles).
 
-mod tri_bvh;
+pub(super) mod tri_bvh;
 mod tri_tri;
 
 use glam::Vec3;

@@ -1,7 +1,8 @@
 //! Quality figures of a simulated state: stretch, penetrations,
-//! self-intersections and facet strain.
+//! self-intersections, facet strain and the layer order of folded paper.
 
 pub mod intersections;
+pub mod layer_order;
 pub mod strain;
 
 use crate::model::Model;

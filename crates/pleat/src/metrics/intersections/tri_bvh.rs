@@ -1,4 +1,4 @@
-//! Broad phase for self-intersection counting: a bounding volume hierarchy
+//! Broad phase for self-intersection counting and layer orders: a bounding volume hierarchy
 //! over axis-aligned boxes, built by median split on the longest axis of the
 //! box centres, stored as a flat node array, and traversed against itself to
 //! list every pair of overlapping boxes exactly once.
@@ -10,9 +10,9 @@ const LEAF_SIZE: usize = 4;
 
 /// A closed axis-aligned box.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct Aabb {
-    pub(super) min: Vec3,
-    pub(super) max: Vec3,
+pub(in crate::metrics) struct Aabb {
+    pub(in crate::metrics) min: Vec3,
+    pub(in crate::metrics) max: Vec3,
 }
 
 impl Aabb {
@@ -21,7 +21,7 @@ impl Aabb {
         max: Vec3::NEG_INFINITY,
     };
 
-    pub(super) fn of_points(points: &[Vec3]) -> Self {
+    pub(in crate::metrics) fn of_points(points: &[Vec3]) -> Self {
         points.iter().fold(Self::EMPTY, |b, &p| Self {
             min: b.min.min(p),
             max: b.max.max(p),
@@ -69,7 +69,7 @@ impl Node {
 }
 
 /// The hierarchy over a set of boxes, each tagged with a caller's id.
-pub(super) struct TriBvh {
+pub(in crate::metrics) struct TriBvh {
     nodes: Vec<Node>,
     /// Item boxes and ids, in leaf order.
     boxes: Vec<Aabb>,
@@ -78,7 +78,7 @@ pub(super) struct TriBvh {
 
 impl TriBvh {
     /// Builds the hierarchy over `(id, box)` items. Boxes must not hold NaN.
-    pub(super) fn build(items: Vec<(u32, Aabb)>) -> Self {
+    pub(in crate::metrics) fn build(items: Vec<(u32, Aabb)>) -> Self {
         let mut items = items;
         let mut bvh = Self {
             nodes: Vec::with_capacity(2 * items.len() / LEAF_SIZE + 1),
@@ -135,7 +135,7 @@ impl TriBvh {
 
     /// Calls `f(id_a, id_b)` once for every unordered pair of distinct items
     /// whose boxes overlap.
-    pub(super) fn for_each_overlapping_pair(&self, mut f: impl FnMut(u32, u32)) {
+    pub(in crate::metrics) fn for_each_overlapping_pair(&self, mut f: impl FnMut(u32, u32)) {
         if self.nodes.is_empty() {
             return;
         }
