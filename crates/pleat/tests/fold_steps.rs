@@ -141,6 +141,19 @@ fn frames_inherit_their_parents_angles() {
     assert!(parse_fold_frames(&strip(""), &pattern).unwrap().is_empty());
 }
 
+/// Frames with no fold angle anywhere (Rabbit Ear writes the folded form
+/// and its layer order as a frame) are not steps: the key frame's crease
+/// pattern folds in one go.
+#[test]
+fn frames_without_fold_angles_are_not_steps() {
+    let text = strip(
+        r#", "file_frames": [ { "frame_parent": 0, "frame_inherit": true,
+            "frame_classes": ["foldedForm"], "faceOrders": [[0, 1, 1]] } ]"#,
+    );
+    let pattern = parse_fold(&text).unwrap();
+    assert!(parse_fold_frames(&text, &pattern).unwrap().is_empty());
+}
+
 fn refused(scene_text: &str, fold_file: &str) -> String {
     match build(scene_text, fold_file) {
         Ok(_) => panic!("accepted: {scene_text}"),
@@ -195,24 +208,40 @@ fn bad_steps_are_refused_with_where_and_why() {
         ),
         (
             scene("{}"),
-            strip(r#", "file_frames": [ { "frame_title": "no angles" } ]"#),
-            "file_frames[0]",
+            strip(
+                r#", "file_frames": [ { "edges_foldAngle": [0,0,0,0,0,0,0,0,90,0] },
+                                      { "frame_title": "no angles" } ]"#,
+            ),
+            "file_frames[1]",
             "a step needs edges_foldAngle",
         ),
         (
             scene("{}"),
             strip(
+                r#", "file_frames": [ { "edges_foldAngle": [0,0,0,0,0,0,0,0,90,0] },
+                                      { "frame_inherit": true } ]"#,
+            ),
+            "file_frames[1]",
+            "inherits no edges_foldAngle: the key frame has none",
+        ),
+        (
+            scene("{}"),
+            strip(
                 r#", "file_frames": [ { "frame_inherit": true, "frame_parent": 2 },
-                                      { "frame_inherit": true, "frame_parent": 1 } ]"#,
+                                      { "frame_inherit": true, "frame_parent": 1 },
+                                      { "edges_foldAngle": [0,0,0,0,0,0,0,0,90,0] } ]"#,
             ),
             "file_frames[0].frame_parent",
             "cycle",
         ),
         (
             scene("{}"),
-            strip(r#", "file_frames": [ { "frame_inherit": true, "frame_parent": 7 } ]"#),
+            strip(
+                r#", "file_frames": [ { "frame_inherit": true, "frame_parent": 7 },
+                                      { "edges_foldAngle": [0,0,0,0,0,0,0,0,90,0] } ]"#,
+            ),
             "file_frames[0].frame_parent",
-            "expected a frame index from 0 (the key frame) to 1, found 7",
+            "expected a frame index from 0 (the key frame) to 2, found 7",
         ),
         (
             scene("{}"),

@@ -158,7 +158,10 @@ fn take_fold_angle(edge: &mut PatternEdge, dihedral: Dihedral) {
 /// takes its `edges_foldAngle`, or inherits it (`frame_inherit` true) from
 /// its `frame_parent` (0 the key frame, `i` the frame `file_frames[i - 1]`);
 /// the frames' other keys are ignored. Empty when the file has no
-/// `file_frames`. Errors name the frame's JSON path.
+/// `file_frames`, or when no frame, the key frame included, has an
+/// `edges_foldAngle` (its frames are then folded forms or other views of
+/// the model, such as Rabbit Ear writes, not steps). Errors name the
+/// frame's JSON path.
 pub fn parse_fold_frames(
     text: &str,
     pattern: &CreasePattern,
@@ -179,6 +182,12 @@ pub fn parse_fold_frames(
                 format!("expected an object, found {}", kind(frame)),
             )
         })?);
+    }
+    // Frames without a fold angle anywhere are other views of the model
+    // (folded forms, layer orders, diagrams), not steps.
+    let has_angles = |f: &Map<String, Value>| f.contains_key("edges_foldAngle");
+    if !has_angles(root) && !objects.iter().any(|f| has_angles(f)) {
+        return Ok(Vec::new());
     }
     (0..objects.len())
         .map(|i| {
@@ -206,7 +215,10 @@ fn frame_fold_angles<'a>(
         if let Some(value) = frame.get("edges_foldAngle") {
             return Ok((format!("{path}edges_foldAngle"), value));
         }
-        let here = format!("file_frames[{}]", id - 1);
+        let here = match id {
+            0 => "the key frame".to_string(),
+            _ => format!("file_frames[{}]", id - 1),
+        };
         if id == 0 || frame.get("frame_inherit") != Some(&Value::Bool(true)) {
             return Err(PatternError::new(
                 format!("file_frames[{i}]"),
@@ -214,14 +226,7 @@ fn frame_fold_angles<'a>(
                     "a step needs edges_foldAngle, or frame_inherit from a frame that has it"
                         .to_string()
                 } else {
-                    format!(
-                        "inherits no edges_foldAngle: {} has none and inherits none",
-                        if id == 0 {
-                            "the key frame".to_string()
-                        } else {
-                            here
-                        }
-                    )
+                    format!("inherits no edges_foldAngle: {here} has none and inherits none")
                 },
             ));
         }
