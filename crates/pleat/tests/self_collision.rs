@@ -175,6 +175,21 @@ fn fold_onto_itself_ends_without_self_intersections() {
     ends_clean("fold_onto_itself.json");
 }
 
+/// Runs the shipped scene `file` to its end, with no self-intersection and
+/// no NaN at any 10th frame.
+fn no_crossing_every_10_frames(file: &str) {
+    let scene = Scene::load(&scenes_dir().join(file)).unwrap();
+    let mut sim = build(&scene);
+    for frame in 1..=scene.frames {
+        sim.step(scene.frame_dt());
+        if frame % 10 == 0 {
+            let crossings = count_self_intersections(&sim.particles.x, &sim.model.triangles);
+            assert_eq!(crossings, 0, "{file} at frame {frame}");
+            assert!(!sim.metrics().nan, "{file} at frame {frame}");
+        }
+    }
+}
+
 /// A napkin modelled folded in half, grazed by a sphere at 10 m/s, never
 /// passes through itself (counted every 10 frames): its layers lie closer
 /// at rest than the exclusion radius but far apart along the cloth, so they
@@ -182,16 +197,7 @@ fn fold_onto_itself_ends_without_self_intersections() {
 /// layers ignored each other and crossed 1,840 times by frame 10).
 #[test]
 fn a_napkin_modelled_folded_keeps_its_layers_apart() {
-    let scene = Scene::load(&scenes_dir().join("napkin_fast_sphere.json")).unwrap();
-    let mut sim = build(&scene);
-    for frame in 1..=scene.frames {
-        sim.step(scene.frame_dt());
-        if frame % 10 == 0 {
-            let crossings = count_self_intersections(&sim.particles.x, &sim.model.triangles);
-            assert_eq!(crossings, 0, "at frame {frame}");
-            assert!(!sim.metrics().nan);
-        }
-    }
+    no_crossing_every_10_frames("napkin_fast_sphere.json");
 }
 
 /// A towel hanging folded over a rail, struck by a sphere at 10 m/s that
@@ -202,16 +208,7 @@ fn a_napkin_modelled_folded_keeps_its_layers_apart() {
 /// through the far one (998 crossings at frame 24, as it strikes).
 #[test]
 fn a_towel_struck_at_10_m_s_keeps_its_layers_apart() {
-    let scene = Scene::load(&scenes_dir().join("towel_rail_sphere.json")).unwrap();
-    let mut sim = build(&scene);
-    for frame in 1..=scene.frames {
-        sim.step(scene.frame_dt());
-        if frame % 10 == 0 {
-            let crossings = count_self_intersections(&sim.particles.x, &sim.model.triangles);
-            assert_eq!(crossings, 0, "at frame {frame}");
-            assert!(!sim.metrics().nan);
-        }
-    }
+    no_crossing_every_10_frames("towel_rail_sphere.json");
 }
 
 #[test]
