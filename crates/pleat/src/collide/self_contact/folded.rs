@@ -39,7 +39,7 @@ pub(super) struct RestGraph<'a> {
 
 impl RestGraph<'_> {
     fn ring(&self, i: usize) -> &[u32] {
-        super::rest::row(self.ring_start, self.ring, i)
+        super::csr::row(self.ring_start, self.ring, i)
     }
 
     /// For each particle, the sorted particles of its cloth closer than
@@ -69,7 +69,7 @@ impl RestGraph<'_> {
             .iter()
             .enumerate()
             .flat_map(|(i, row)| row.iter().map(move |&j| (i as u32, j)));
-        super::rest::csr(self.rest.len(), items)
+        super::csr::csr(self.rest.len(), items)
     }
 
     /// Of `targets`, those reached from `source` along the edges within

@@ -29,6 +29,7 @@
 //! An iteration where no contact acts ends the solve.
 
 mod broad_phase;
+mod csr;
 mod folded;
 mod narrow_phase;
 mod normal_cone;

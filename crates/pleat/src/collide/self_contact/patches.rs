@@ -12,7 +12,8 @@
 //! lowest-index triangle), so that a pair of patches tests each vertex-triangle,
 //! particle and edge pair once.
 
-use super::rest::{csr, row, RestNeighbourhood};
+use super::csr::{csr, row};
+use super::rest::RestNeighbourhood;
 use glam::IVec3;
 use std::collections::HashMap;
 

@@ -14,6 +14,7 @@
 //!   closer at rest than [`PAPER_EXCLUSION`] times the thickness, so that a
 //!   flap folded onto the facet next to it is held a thickness away.
 
+use super::csr::csr;
 use super::folded::RestGraph;
 use crate::collide::ccd;
 use crate::model::Model;
@@ -124,7 +125,7 @@ impl RestNeighbourhood {
                 i,
                 j,
                 self.triangle_exclusion[self.cloth[i as usize] as usize],
-            ) && row(&self.layer_start, &self.layer, i as usize)
+            ) && super::csr::row(&self.layer_start, &self.layer, i as usize)
                 .binary_search(&j)
                 .is_err()
     }
@@ -159,35 +160,6 @@ impl RestNeighbourhood {
                 ccd::segment_distance(a0, a1, b0, b1) < PAPER_EXCLUSION * self.thickness
             }
     }
-}
-
-/// Compressed rows from `(row, value)` items, each row sorted.
-pub(super) fn csr<T: Copy + Ord + Default>(
-    rows: usize,
-    items: impl Iterator<Item = (u32, T)> + Clone,
-) -> (Vec<u32>, Vec<T>) {
-    let mut start = vec![0u32; rows + 1];
-    for (r, _) in items.clone() {
-        start[r as usize + 1] += 1;
-    }
-    for k in 1..=rows {
-        start[k] += start[k - 1];
-    }
-    let mut cursor = start.clone();
-    let mut values = vec![T::default(); start[rows] as usize];
-    for (r, v) in items {
-        values[cursor[r as usize] as usize] = v;
-        cursor[r as usize] += 1;
-    }
-    for r in 0..rows {
-        values[start[r] as usize..start[r + 1] as usize].sort_unstable();
-    }
-    (start, values)
-}
-
-/// Row `r` of a CSR table.
-pub(super) fn row<'a, T>(start: &[u32], values: &'a [T], r: usize) -> &'a [T] {
-    &values[start[r] as usize..start[r + 1] as usize]
 }
 
 #[cfg(test)]
