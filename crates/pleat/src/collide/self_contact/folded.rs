@@ -44,7 +44,8 @@ impl RestGraph<'_> {
 
     /// For each particle, the sorted particles of its cloth closer than
     /// `radius[cloth]` at rest whose path along the edges is longer than
-    /// [`GEODESIC_SLACK`] times that radius (CSR). Radii of zero skip a cloth.
+    /// [`GEODESIC_SLACK`] times that radius (CSR), the relation symmetric.
+    /// Radii of zero skip a cloth.
     pub fn layer_pairs(&self, radius: &[f32]) -> (Vec<u32>, Vec<u32>) {
         let near = self.near_at_rest(radius);
         let normals = self.vertex_normals();
@@ -62,14 +63,23 @@ impl RestGraph<'_> {
                     return Vec::new();
                 }
                 let reached = self.reached_along_edges(i, GEODESIC_SLACK * r, &close);
-                close.into_iter().filter(|j| !reached.contains(j)).collect()
+                close.retain(|j| reached.binary_search(j).is_err());
+                close
             })
             .collect();
-        let items = rows
+        // Each pair both ways, once: the tangent plane seen from either
+        // particle may find it.
+        let mut pairs: Vec<(u32, u32)> = rows
             .iter()
             .enumerate()
-            .flat_map(|(i, row)| row.iter().map(move |&j| (i as u32, j)));
-        super::csr::csr(self.rest.len(), items)
+            .flat_map(|(i, row)| {
+                row.iter()
+                    .flat_map(move |&j| [(i as u32, j), (j, i as u32)])
+            })
+            .collect();
+        pairs.sort_unstable();
+        pairs.dedup();
+        super::csr::csr(self.rest.len(), pairs.into_iter())
     }
 
     /// Of `targets`, those reached from `source` along the edges within
@@ -217,6 +227,11 @@ mod tests {
                 // Near the fold the layers are neighbours along the cloth
                 // too; a quarter of the strip from it they are layers.
                 let from_fold = x[i as usize].x.abs().min(x[j as usize].x.abs());
+                assert_eq!(
+                    rest.corner_excludes(i, j),
+                    rest.corner_excludes(j, i),
+                    "{i} {j} both ways"
+                );
                 if from_fold < 0.06 {
                     near_fold += 1;
                     assert!(rest.corner_excludes(i, j), "{i} {j} by the fold");
