@@ -14,14 +14,16 @@
 //! the first particle's tangent plane at more than [`LAYER_ANGLE`] is
 //! followed along the edges, which keeps the search to folds and stacks.
 
-use glam::{IVec3, Vec3};
+use crate::collide::hash_grid::{Aabb, HashGrid};
+use crate::export::vertex_normals;
+use glam::Vec3;
 use rayon::prelude::*;
 use std::cmp::Reverse;
 use std::collections::{BinaryHeap, HashMap};
 
 /// A pair closer at rest than the exclusion radius is a pair of layers when
 /// its path along the edges is longer than this many radii.
-pub(super) const GEODESIC_SLACK: f32 = 2.0;
+const GEODESIC_SLACK: f32 = 2.0;
 /// Sine of the smallest angle between a particle's rest tangent plane and
 /// the offset to a particle of another layer (30 degrees).
 const LAYER_ANGLE: f32 = 0.5;
@@ -48,13 +50,13 @@ impl RestGraph<'_> {
     /// Radii of zero skip a cloth.
     pub fn layer_pairs(&self, radius: &[f32]) -> (Vec<u32>, Vec<u32>) {
         let near = self.near_at_rest(radius);
-        let normals = self.vertex_normals();
+        let normals = vertex_normals(self.rest, self.triangles);
         let rows: Vec<Vec<u32>> = (0..self.rest.len())
             .into_par_iter()
             .map(|i| {
                 let r = radius[self.cloth[i] as usize];
                 let (x, n) = (self.rest[i], normals[i]);
-                let mut close = near.within(self, i, r);
+                let mut close = self.within(near.as_ref(), i, r);
                 close.retain(|&j| {
                     let d = self.rest[j as usize] - x;
                     n.dot(d).abs() > LAYER_ANGLE * d.length()
@@ -110,62 +112,31 @@ impl RestGraph<'_> {
         reached
     }
 
-    /// Area-weighted unit normals of the rest mesh's vertices.
-    fn vertex_normals(&self) -> Vec<Vec3> {
-        let mut normals = vec![Vec3::ZERO; self.rest.len()];
-        for t in self.triangles {
-            let [a, b, c] = t.map(|k| self.rest[k as usize]);
-            let n = (b - a).cross(c - a);
-            for k in t {
-                normals[*k as usize] += n;
-            }
-        }
-        normals.iter().map(|n| n.normalize_or_zero()).collect()
-    }
-
-    /// The particles in cubic cells of the largest radius, for the queries.
-    fn near_at_rest(&self, radius: &[f32]) -> Cells {
+    /// The rest positions in a hash grid of cells of the largest radius;
+    /// `None` when every radius is zero.
+    fn near_at_rest(&self, radius: &[f32]) -> Option<HashGrid> {
         let size = radius.iter().copied().fold(0.0, f32::max);
-        let mut cells: HashMap<IVec3, Vec<u32>> = HashMap::new();
-        if size > 0.0 {
-            for (i, x) in self.rest.iter().enumerate() {
-                if radius[self.cloth[i] as usize] > 0.0 {
-                    let key = (*x / size).floor().as_ivec3();
-                    cells.entry(key).or_default().push(i as u32);
-                }
-            }
-        }
-        Cells { size, cells }
+        (size > 0.0).then(|| {
+            let points: Vec<Aabb> = self.rest.iter().map(|&x| Aabb::around(x, x)).collect();
+            let mut grid = HashGrid::default();
+            grid.build(&points, size);
+            grid
+        })
     }
-}
 
-/// Particles by the cubic cell they lie in.
-struct Cells {
-    size: f32,
-    cells: HashMap<IVec3, Vec<u32>>,
-}
-
-impl Cells {
     /// The sorted other particles of `i`'s cloth closer than `r` to it at rest.
-    fn within(&self, graph: &RestGraph, i: usize, r: f32) -> Vec<u32> {
-        if r <= 0.0 {
+    fn within(&self, near: Option<&HashGrid>, i: usize, r: f32) -> Vec<u32> {
+        let (Some(near), true) = (near, r > 0.0) else {
             return Vec::new();
-        }
-        let x = graph.rest[i];
-        let key = (x / self.size).floor().as_ivec3();
+        };
+        let x = self.rest[i];
         let mut found = Vec::new();
-        for dz in -1..=1 {
-            for dy in -1..=1 {
-                for dx in -1..=1 {
-                    let cell = self.cells.get(&(key + IVec3::new(dx, dy, dz)));
-                    found.extend(cell.into_iter().flatten().copied().filter(|&j| {
-                        j as usize != i
-                            && graph.cloth[j as usize] == graph.cloth[i]
-                            && graph.rest[j as usize].distance_squared(x) < r * r
-                    }));
-                }
+        near.for_each_overlapping(&Aabb::around(x, x).expanded(r), |j| {
+            let close = self.rest[j as usize].distance_squared(x) < r * r;
+            if j as usize != i && self.cloth[j as usize] == self.cloth[i] && close {
+                found.push(j);
             }
-        }
+        });
         found.sort_unstable();
         found
     }
