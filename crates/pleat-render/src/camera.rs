@@ -1,5 +1,5 @@
 //! The camera and the light: framing the scene by default (and folded
-//! paper face-on, along the axis of least spread of its points), the
+//! paper face-on, along the way most of its area faces), the
 //! projection both the GPU and the tests use, and the light's shadow-map
 //! projection.
 
@@ -75,34 +75,45 @@ pub const DEFAULT_VIEW_DIRECTION: Vec3 = Vec3::new(0.45, 0.5, 1.0);
 /// degrees): enough to read as 3-D, little enough to see every layer.
 pub const FACE_ON_TILT: f32 = 0.384;
 
-/// A variance along the current view axis within this factor of the
-/// smallest keeps the axis (hysteresis: the view does not flip between two
-/// nearly equal spreads from one picture to the next).
+/// An area facing the current view axis within this factor of the most
+/// facing any way keeps the axis (hysteresis: the view does not flip
+/// between two nearly equal ways from one picture to the next).
 const AXIS_HYSTERESIS: f32 = 1.5;
 
-/// The principal axes of `points` (principal components): their centroid,
-/// and the eigenvectors of their covariance with its eigenvalues (the
-/// variance along each), from the largest spread to the smallest. `None`
-/// for no points or a point that is not finite.
-pub fn principal_axes(points: &[Vec3]) -> Option<(Vec3, [(Vec3, f32); 3])> {
-    if points.is_empty() || points.iter().any(|p| !p.is_finite()) {
-        return None;
-    }
-    let n = points.len() as f32;
-    let centroid = points.iter().copied().sum::<Vec3>() / n;
+/// The principal axes of the faces' normals, weighted by area: the
+/// eigenvectors of `sum(area * n n^T)` over the triangles of `points`, with
+/// its eigenvalues (the area facing each way), from the most facing to the
+/// least. A flat sheet, folded flat or not, faces along its normal with all
+/// of its area. `None` for no triangle with an area, or a point that is not
+/// finite.
+pub fn facing_axes(points: &[Vec3], triangles: &[[u32; 3]]) -> Option<[(Vec3, f32); 3]> {
     let mut c = [[0.0f32; 3]; 3];
-    for p in points {
-        let d = (*p - centroid).to_array();
+    let mut total = 0.0;
+    for t in triangles {
+        let [a, b, d] = t.map(|i| points.get(i as usize).copied().unwrap_or(Vec3::NAN));
+        let twice_area = (b - a).cross(d - a);
+        let length = twice_area.length();
+        if !length.is_finite() {
+            return None;
+        }
+        if length == 0.0 {
+            continue;
+        }
+        total += length;
+        let n = twice_area.to_array();
         for (i, row) in c.iter_mut().enumerate() {
             for (j, v) in row.iter_mut().enumerate() {
-                *v += d[i] * d[j] / n;
+                *v += n[i] * n[j] / length;
             }
         }
+    }
+    if total == 0.0 {
+        return None;
     }
     let (values, vectors) = symmetric_eigen(c);
     let mut axes = [0, 1, 2].map(|i| (vectors.col(i).normalize_or(Vec3::Z), values[i]));
     axes.sort_by(|a, b| b.1.total_cmp(&a.1));
-    Some((centroid, axes))
+    Some(axes)
 }
 
 /// Eigenvalues and eigenvectors (columns) of the symmetric matrix `a` by
@@ -154,22 +165,27 @@ fn up_for(forward: Vec3) -> Vec3 {
     }
 }
 
-/// The axis a face-on view of `points` looks along (from the points to the
-/// eye, not yet tilted): their axis of least spread, on the side of
+/// The axis a face-on view of the paper (`points` and its `triangles`)
+/// looks along (from the paper to the eye, not yet tilted): the way most of
+/// its area faces ([`facing_axes`]), on the side of
 /// [`DEFAULT_VIEW_DIRECTION`] (a stable sign). With `previous` (the axis of
-/// the last picture), that axis is kept while the spread along it stays
-/// within [`AXIS_HYSTERESIS`] of the least. `None` as for [`principal_axes`].
-pub fn face_on_axis(points: &[Vec3], previous: Option<Vec3>) -> Option<Vec3> {
-    let (_, axes) = principal_axes(points)?;
-    let least = axes[2];
+/// the last picture), that axis is kept while the area facing it stays
+/// within [`AXIS_HYSTERESIS`] of the most. `None` as for [`facing_axes`].
+pub fn face_on_axis(
+    points: &[Vec3],
+    triangles: &[[u32; 3]],
+    previous: Option<Vec3>,
+) -> Option<Vec3> {
+    let axes = facing_axes(points, triangles)?;
+    let most = axes[0];
     let axis = previous
         .and_then(|prev| {
             let kept = axes
                 .iter()
                 .max_by(|a, b| a.0.dot(prev).abs().total_cmp(&b.0.dot(prev).abs()))?;
-            (kept.1 <= least.1.max(0.0) * AXIS_HYSTERESIS + f32::EPSILON).then_some(kept.0)
+            (kept.1 * AXIS_HYSTERESIS >= most.1).then_some(kept.0)
         })
-        .unwrap_or(least.0);
+        .unwrap_or(most.0);
     let side = DEFAULT_VIEW_DIRECTION.normalize();
     let facing = axis.dot(side);
     Some(if facing < 0.0 || (facing == 0.0 && axis.y < 0.0) {
@@ -328,8 +344,9 @@ mod tests {
     }
 
     /// A flat-folded sheet: points scattered over a square in a plane
-    /// tilted arbitrarily, a few layers a paper's thickness apart.
-    fn flat_folded_sheet(normal: Vec3, offset: Vec3) -> Vec<Vec3> {
+    /// tilted arbitrarily, a few layers a paper's thickness apart, and
+    /// triangles joining them three by three.
+    fn flat_folded_sheet(normal: Vec3, offset: Vec3) -> (Vec<Vec3>, Vec<[u32; 3]>) {
         let u = normal.any_orthonormal_vector();
         let v = normal.cross(u);
         let mut state = 12345u32;
@@ -337,9 +354,13 @@ mod tests {
             state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
             (state >> 8) as f32 / (1u32 << 24) as f32 - 0.5
         };
-        (0..400)
+        let points = (0..400)
             .map(|_| offset + u * 0.3 * random() + v * 0.2 * random() + normal * 0.002 * random())
-            .collect()
+            .collect();
+        (
+            points,
+            (0..133).map(|t| [3 * t, 3 * t + 1, 3 * t + 2]).collect(),
+        )
     }
 
     #[test]
@@ -351,8 +372,8 @@ mod tests {
             (Vec3::Z, Vec3::ZERO),
         ] {
             let normal = normal.normalize();
-            let points = flat_folded_sheet(normal, offset);
-            let axis = face_on_axis(&points, None).unwrap();
+            let (points, triangles) = flat_folded_sheet(normal, offset);
+            let axis = face_on_axis(&points, &triangles, None).unwrap();
             assert!(axis.dot(normal).abs() > 0.999, "{axis} for {normal}");
             assert!(axis.dot(DEFAULT_VIEW_DIRECTION) >= 0.0, "sign: {axis}");
             let (w, h) = (640, 480);
@@ -385,20 +406,56 @@ mod tests {
         }
     }
 
+    /// A right triangle of legs `a` and `b` from `origin`, appended to `points`.
+    fn right_triangle(points: &mut Vec<Vec3>, origin: Vec3, a: Vec3, b: Vec3) -> [u32; 3] {
+        let i = points.len() as u32;
+        points.extend([origin, origin + a, origin + b]);
+        [i, i + 1, i + 2]
+    }
+
     #[test]
-    fn the_face_on_axis_keeps_its_choice_between_near_equal_spreads() {
-        // x spreads a little less than z (variances 1 : 1.21), y far more.
-        let mut squashed = Vec::new();
-        for i in 0..10 {
-            for (x, z) in [(-1.0, -1.1), (-1.0, 1.1), (1.0, -1.1), (1.0, 1.1)] {
-                squashed.push(Vec3::new(x, i as f32 * 3.0, z) * 0.01);
+    fn the_face_on_axis_keeps_its_choice_between_near_equal_areas() {
+        // 1.0 of area faces x, 1.2 faces z.
+        let mut points = Vec::new();
+        let triangles = [
+            right_triangle(&mut points, Vec3::ZERO, Vec3::Y, Vec3::Z * 2.0),
+            right_triangle(&mut points, Vec3::ZERO, Vec3::X * 2.0, Vec3::Y * 1.2),
+        ];
+        let fresh = face_on_axis(&points, &triangles, None).unwrap();
+        assert!(fresh.dot(Vec3::Z).abs() > 0.99, "{fresh}");
+        let kept = face_on_axis(&points, &triangles, Some(Vec3::X)).unwrap();
+        assert!(kept.dot(Vec3::X).abs() > 0.99, "{kept}");
+        assert!(face_on_axis(&[], &[], None).is_none());
+        assert!(
+            face_on_axis(&points, &[[0, 0, 1]], None).is_none(),
+            "no area"
+        );
+        assert!(face_on_axis(&[Vec3::NAN; 3], &[[0, 1, 2]], None).is_none());
+        assert!(Camera::facing(&[Vec3::NAN], Vec3::Z, 1.0).is_none());
+    }
+
+    #[test]
+    fn a_long_strip_folded_in_layers_is_seen_across_its_layers() {
+        // A strip 1 m long and 2 cm wide folded flat in three layers 3 cm
+        // apart (Rabbit Ear's two-bird pattern ends so): its points spread
+        // least across its width, which would show it edge-on; its faces
+        // all face along the layers' normal.
+        let (along, across, normal) =
+            (Vec3::X, Vec3::new(0.0, 0.6, 0.8), Vec3::new(0.0, 0.8, -0.6));
+        let mut points = Vec::new();
+        let mut triangles = Vec::new();
+        for layer in 0..3 {
+            for k in 0..10 {
+                let origin = along * (k as f32 * 0.1) + normal * (layer as f32 * 0.03);
+                triangles.push(right_triangle(
+                    &mut points,
+                    origin,
+                    along * 0.1,
+                    across * 0.02,
+                ));
             }
         }
-        let fresh = face_on_axis(&squashed, None).unwrap();
-        assert!(fresh.dot(Vec3::X).abs() > 0.99, "{fresh}");
-        let kept = face_on_axis(&squashed, Some(Vec3::Z)).unwrap();
-        assert!(kept.dot(Vec3::Z).abs() > 0.99, "{kept}");
-        assert!(face_on_axis(&[], None).is_none());
-        assert!(Camera::facing(&[Vec3::NAN], Vec3::Z, 1.0).is_none());
+        let axis = face_on_axis(&points, &triangles, None).unwrap();
+        assert!(axis.dot(normal).abs() > 0.999, "looks along {axis}");
     }
 }

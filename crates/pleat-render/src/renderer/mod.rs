@@ -89,6 +89,9 @@ pub struct Renderer {
     paper_alone: bool,
     /// The axis the last face-on framing looked along.
     face_on: Option<Vec3>,
+    /// The paper's triangles, whose normals the face-on framing follows
+    /// (empty unless the model is paper alone).
+    paper_triangles: Vec<[u32; 3]>,
     global_groups: GlobalGroups,
     cloth: ClothBuffers,
     lines: Option<(wgpu::Buffer, u32)>,
@@ -133,7 +136,7 @@ impl Renderer {
                 .iter()
                 .all(|c| matches!(c.shape, pleat::collide::Shape::Plane { .. }));
         let face_on = (paper_alone && settings.camera.is_none())
-            .then(|| face_on_axis(&model.rest, None))
+            .then(|| face_on_axis(&model.rest, &model.triangles, None))
             .flatten();
         let camera = face_on
             .and_then(|axis| Camera::facing(&model.rest, axis, aspect))
@@ -178,6 +181,11 @@ impl Renderer {
             is_paper,
             paper_alone,
             face_on,
+            paper_triangles: if paper_alone {
+                model.triangles.clone()
+            } else {
+                Vec::new()
+            },
             global_groups,
             cloth: ClothBuffers::new(&device, model),
             lines: resources::line_buffer(&device, model, settings.view),
@@ -370,16 +378,16 @@ impl Renderer {
     }
 
     /// Frames `points` (the paper as it is now) face-on, when the camera
-    /// follows the paper: it looks along their axis of least spread,
-    /// tilted a little, from as close as shows them all. The axis of the
-    /// last framing is kept while it stays nearly the least (no flipping
-    /// between two near-equal spreads).
+    /// follows the paper: it looks along the way most of the paper's area
+    /// faces, tilted a little, from as close as shows it all. The axis of
+    /// the last framing is kept while nearly as much faces it (no flipping
+    /// between two near-equal ways).
     pub fn frame_paper(&mut self, points: &[Vec3]) {
         if !self.follows_paper() || points.len() != self.particles {
             return;
         }
         let aspect = self.settings.width as f32 / self.settings.height as f32;
-        let Some(axis) = face_on_axis(points, self.face_on) else {
+        let Some(axis) = face_on_axis(points, &self.paper_triangles, self.face_on) else {
             return;
         };
         if let Some(camera) = Camera::facing(points, axis, aspect) {
