@@ -45,7 +45,7 @@ fn arm_solve() {
     // Once a build: the counts stay until the next.
     if found > params.contact_capacity && atomicLoad(&candidates[FRESH]) == 1u {
         atomicStore(&candidates[FRESH], 2u);
-        atomicAdd(&candidates[OVERFLOWS], 1u);
+        atomicMax(&candidates[OVERFLOWED], found);
     }
     let groups = (kept + WORKGROUP - 1u) / WORKGROUP;
     let solve = 3u * BUILD_KERNELS;

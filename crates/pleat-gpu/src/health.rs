@@ -111,13 +111,14 @@ pub struct ContactCounts {
     pub acted: u64,
     /// Builds of the candidates.
     pub builds: u64,
-    /// Builds that found more pairs than the buffer holds.
-    pub overflows: u64,
+    /// The most pairs a build found that the buffer could not all hold
+    /// (0: every build's fit).
+    pub overflowed: u64,
 }
 
 /// Bytes of the result read back: the summary, then the counters' words
 /// of the candidates' header (lib/contact.wgsl: solved, acted, builds,
-/// overflows).
+/// the most found by a build that overflowed).
 const SUMMARY_BYTES: u64 = size_of::<Summary>() as u64;
 const COUNTERS: std::ops::Range<u64> = 8..24;
 
@@ -229,6 +230,12 @@ impl HealthWatch {
         2
     }
 
+    /// Reads the self-contacts' counters from `candidates` from now on
+    /// (a larger buffer replaced the last).
+    pub fn set_contact_counts(&mut self, candidates: &wgpu::Buffer) {
+        self.contact_counts = Some(candidates.clone());
+    }
+
     /// The self-contacts' counters that came back since the last call, if any did.
     pub fn take_contact_counts(&mut self) -> Option<ContactCounts> {
         self.arrived_counts.take()
@@ -262,13 +269,13 @@ impl HealthWatch {
             ARRIVED => {
                 let summary = self.readback.get_mapped_range(..).ok().map(|data| {
                     let (summary, counters) = data.split_at(SUMMARY_BYTES as usize);
-                    let [candidates, acted, builds, overflows]: [u32; 4] =
+                    let [candidates, acted, builds, overflowed]: [u32; 4] =
                         bytemuck::pod_read_unaligned(counters);
                     let arrived = self.arrived_counts.get_or_insert_default();
                     arrived.candidates += u64::from(candidates);
                     arrived.acted += u64::from(acted);
                     arrived.builds += u64::from(builds);
-                    arrived.overflows += u64::from(overflows);
+                    arrived.overflowed = arrived.overflowed.max(u64::from(overflowed));
                     *bytemuck::from_bytes::<Summary>(summary)
                 });
                 self.readback.unmap();

@@ -10,8 +10,8 @@
 // nonzero while no particle has moved half the margin since that build
 // (2 once its overflow is counted);
 // then counters the host reads back and clears: the candidates solved
-// and the contacts that acted, summed over substeps, the builds and those
-// that found more pairs than fit; then the least and the greatest
+// and the contacts that acted, summed over substeps, the builds, and the
+// most pairs a build found that did not all fit (0: none overflowed); then the least and the greatest
 // displacement since the build along each axis (as keys ordered as the
 // floats are).
 const FOUND: u32 = 0u;
@@ -19,7 +19,7 @@ const FRESH: u32 = 1u;
 const SOLVED: u32 = 2u;
 const ACTED: u32 = 3u;
 const BUILDS: u32 = 4u;
-const OVERFLOWS: u32 = 5u;
+const OVERFLOWED: u32 = 5u;
 const LEAST: u32 = 6u;
 const GREATEST: u32 = 9u;
 const HEADER: u32 = 12u;

@@ -6,6 +6,7 @@ use super::resources::{KernelBuffers, PerSubstep};
 use super::GpuBackend;
 use crate::buffers::{entry, sized_entry, zeroed};
 use crate::data::{Params, Range};
+use crate::health::ContactCounts;
 use crate::kernels::{Kernels, SelfContactKernels};
 
 /// One kernel with its buffers bound, and the slices it is dispatched on.
@@ -241,13 +242,45 @@ impl GpuBackend {
                 },
             );
         }
+        self.rebind_stages();
+    }
+
+    /// Binds every kernel to the buffers anew (after one was replaced).
+    fn rebind_stages(&mut self) {
         self.stages = Stages::new(
-            device,
+            &self.context.device,
             &self.kernels,
             [&self.pos, &self.prev, &self.vel, &self.compliance_table],
             &self.buffers,
             &self.per_substep,
             &self.ranges,
         );
+    }
+
+    /// Grows the self-contacts' candidates when a build that came back
+    /// found more pairs than they hold, and binds the larger buffer; says
+    /// once when they cannot grow (those beyond are then not solved).
+    pub(super) fn grow_candidates(&mut self, counts: Option<ContactCounts>) {
+        let Some(contact) = &mut self.buffers.self_contact else {
+            return;
+        };
+        let Some(found) = counts.map(|c| c.overflowed).filter(|&found| found > 0) else {
+            return;
+        };
+        if !contact.grow(&self.context.device, found) {
+            if !contact.told_full {
+                contact.told_full = true;
+                eprintln!(
+                    "warning: the self-contacts found more candidate pairs than the GPU's \
+                     largest buffer holds ({}); those beyond were dropped (a thickness \
+                     many times the cloth's edge length finds hundreds of pairs a particle)",
+                    contact.capacity
+                );
+            }
+            return;
+        }
+        self.counts.contact_capacity = contact.capacity;
+        self.health.set_contact_counts(&contact.candidates);
+        self.rebind_stages();
     }
 }

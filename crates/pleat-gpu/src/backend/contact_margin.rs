@@ -31,8 +31,6 @@ pub(super) struct ContactMargin {
     wait: u32,
     /// Substeps recorded since the counts last came back.
     substeps: u64,
-    /// Whether the candidates' overflow has been told.
-    told_overflow: bool,
 }
 
 impl ContactMargin {
@@ -44,7 +42,6 @@ impl ContactMargin {
             since_try: None,
             wait: FIRST_WAIT,
             substeps: 0,
-            told_overflow: false,
         }
     }
 
@@ -61,7 +58,6 @@ impl ContactMargin {
     /// then stale: a list found without the margin does not hold with it).
     pub(super) fn frame(&mut self, substeps: u32, counts: Option<ContactCounts>) -> bool {
         let busy = counts.is_some_and(|c| {
-            self.tell_overflow(c);
             let busy = c.builds as f64 > BUSY * self.substeps.max(1) as f64;
             self.substeps = 0;
             busy
@@ -92,18 +88,6 @@ impl ContactMargin {
                 }
                 retry
             }
-        }
-    }
-
-    /// Says once that a build found more pairs than the buffer holds.
-    fn tell_overflow(&mut self, counts: ContactCounts) {
-        if counts.overflows > 0 && !self.told_overflow {
-            self.told_overflow = true;
-            eprintln!(
-                "warning: self-contact candidates overflowed their buffer on the GPU; \
-                 contacts were dropped (a thickness many times the cloth's edge length \
-                 finds hundreds of pairs a particle)"
-            );
         }
     }
 }

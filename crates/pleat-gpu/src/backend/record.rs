@@ -109,6 +109,7 @@ impl GpuBackend {
             stages.self_contacts += c.acted;
             stages.self_contact_builds += c.builds;
         }
+        self.grow_candidates(counts);
         self.choose_contact_margin(settings.substeps, counts);
         self.hold_fold(control.fold.held);
         let substeps = self.write_frame(world, (settings, compliances), control);

@@ -126,6 +126,8 @@ pub(super) struct SelfContactBuffers {
     pub(super) exclusion: f32,
     /// Most candidate pairs kept.
     pub(super) capacity: u32,
+    /// Whether it has been said that they cannot grow.
+    pub(super) told_full: bool,
 }
 
 /// What the strain limits' sweeps need besides the distances' items.
@@ -187,9 +189,8 @@ impl SelfContactBuffers {
                 rest[i] = model.rest[i].extend(k as f32).to_array();
             }
         }
-        let largest = device.limits().max_storage_buffer_binding_size;
         let capacity = (CANDIDATES_PER_PARTICLE * u64::from(n))
-            .min(largest / 8 - CANDIDATE_HEADER)
+            .min(largest_capacity(device))
             .max(1);
         let narrow_cell = CONTACT_EDGE_STRETCH * longest + thickness;
         SelfContactBuffers {
@@ -198,23 +199,59 @@ impl SelfContactBuffers {
             rest: storage(device, "rest positions", &rest),
             accum: zeroed(device, "contact corrections", n as u64 * 16),
             args: indirect_args(device, build_workgroups(n, buckets)),
-            // Zeroed: not fresh, so the first substep builds.
-            candidates: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("contact candidates"),
-                size: (CANDIDATE_HEADER + 2 * capacity) * 4,
-                usage: wgpu::BufferUsages::STORAGE
-                    | wgpu::BufferUsages::COPY_DST
-                    | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            }),
+            candidates: candidates(device, capacity),
             cell: narrow_cell + margin,
             narrow_cell,
             buckets,
             margin,
             exclusion,
             capacity: capacity as u32,
+            told_full: false,
         }
     }
+}
+
+impl SelfContactBuffers {
+    /// After a build found `found` pairs, more than the candidates hold
+    /// (those beyond were not solved), a buffer for [`GROWTH`] times as
+    /// many (twice the last at least), up to the largest a binding takes,
+    /// zeroed so that the next substep builds afresh. False when it is
+    /// that large already.
+    pub(super) fn grow(&mut self, device: &wgpu::Device, found: u64) -> bool {
+        let wanted = (found as f64 * GROWTH) as u64;
+        let capacity = wanted
+            .max(2 * u64::from(self.capacity))
+            .min(largest_capacity(device));
+        if capacity <= u64::from(self.capacity) {
+            return false;
+        }
+        self.candidates = candidates(device, capacity);
+        self.capacity = capacity as u32;
+        true
+    }
+}
+
+/// Room for how many times the pairs a build found, when they overflowed
+/// the candidates: a cloth that settles into more layers finds more.
+const GROWTH: f64 = 1.5;
+
+/// The most candidate pairs one binding of `device` holds.
+fn largest_capacity(device: &wgpu::Device) -> u64 {
+    let words = device.limits().max_storage_buffer_binding_size / 4;
+    ((words - CANDIDATE_HEADER) / 2).min(u64::from(u32::MAX))
+}
+
+/// A candidates buffer of `capacity` pairs, zeroed: not fresh, so the
+/// first substep builds.
+fn candidates(device: &wgpu::Device, capacity: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("contact candidates"),
+        size: (CANDIDATE_HEADER + 2 * capacity) * 4,
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_DST
+            | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    })
 }
 
 /// The workgroups of the build's kernels over `n` particles and `buckets`
