@@ -18,7 +18,8 @@ import fs from "node:fs";
 import http from "node:http";
 import path from "node:path";
 
-// Each demo and the backend it opens on (self-contacts run faster on the CPU).
+// Each demo and the backend it is opened on here (the URL names it: without
+// one the app times both and keeps the faster, checked on its own below).
 const DEMOS = { rigid: "gpu", fold: "gpu", sdf: "gpu", wind: "gpu", self: "cpu", drape: "gpu" };
 // The page's size while it runs, and the sizes it is pictured at.
 const RUN = { width: 1024, height: 640 };
@@ -154,7 +155,7 @@ try {
 
   for (const [demo, backend] of Object.entries(DEMOS)) {
     await check(`demo ${demo} loads and its frames advance`, async () => {
-      await page.goto(`${base}?demo=${demo}`);
+      await page.goto(`${base}?demo=${demo}&backend=${backend}`);
       const first = await until(page, `${demo} to start`, (s) => s.frame >= 3 && s.demo === demo);
       assert.equal(first.last_error, null);
       assert.ok(first.particles > 10, `particles: ${first.particles}`);
@@ -189,8 +190,23 @@ try {
     });
   }
 
+  await check("without a backend in the URL both are timed and the faster is kept", async () => {
+    await page.goto(`${base}?demo=fold`);
+    const picked = await until(page, "the verdict", (s) => s.demo === "fold" && s.backend_pick !== null, 300);
+    // "picked CPU: GPU 3.1 steps/s, CPU 40.2 steps/s"
+    const rate = (name) => Number(picked.backend_pick.match(new RegExp(`${name} (\\d+\\.\\d) steps/s`))[1]);
+    const [cpu, gpu] = [rate("CPU"), rate("GPU")];
+    assert.ok(cpu > 0 && gpu > 0, picked.backend_pick);
+    const kept = await until(page, "the move to the one kept", (s) => s.frame >= picked.frame + 5);
+    assert.ok(picked.backend_pick.startsWith(`picked ${kept.backend.toUpperCase()}:`), JSON.stringify(kept));
+    const [mine, other] = kept.backend === "gpu" ? [gpu, cpu] : [cpu, gpu];
+    assert.ok(mine * 1.1 >= other, picked.backend_pick);
+    rates.fold_backend_pick = picked.backend_pick;
+    assert.equal(kept.last_error, null);
+  });
+
   await check("the panel's simulation rate matches the frames counted over 10 s (within 10 %)", async () => {
-    await page.goto(`${base}?demo=wind`);
+    await page.goto(`${base}?demo=wind&backend=gpu`);
     // The page measures over its last 10 s: let it run that long first.
     await until(page, "the flag", (s) => s.frame >= 3);
     await page.waitForTimeout(10500);
@@ -211,7 +227,7 @@ try {
   });
 
   await check("a lost device shows the message and the run goes on on a new device", async () => {
-    await page.goto(`${base}?demo=wind`);
+    await page.goto(`${base}?demo=wind&backend=gpu`);
     const before = await until(page, "the flag", (s) => s.frame >= 10);
     await page.evaluate(() => window.pleatLoseDevice());
     const back = await until(page, "the recovery", (s) => s.device_lost !== null && s.frame >= before.frame + 10);
@@ -226,7 +242,7 @@ try {
   });
 
   await check("changing a parameter changes the simulation (gravity up lifts the flag)", async () => {
-    await page.goto(`${base}?demo=wind`);
+    await page.goto(`${base}?demo=wind&backend=gpu`);
     const before = await until(page, "the flag", (s) => s.frame >= 5);
     await page.evaluate(() => window.pleat.set("gravity", 30));
     const after = await until(page, "the flag to rise", (s) => s.frame >= before.frame + 20);
@@ -237,7 +253,7 @@ try {
   });
 
   await check("a mouse drag grabs the cloth and moves it", async () => {
-    await page.goto(`${base}?demo=drape`);
+    await page.goto(`${base}?demo=drape&backend=gpu`);
     // 40 frames of the drape with its self-contacts: about 100 s on software WebGPU.
     const settled = await until(page, "the cloth to land", (s) => s.frame >= 40 && s.cloth_point, 300);
     const [x, y] = settled.cloth_point;
@@ -257,7 +273,7 @@ try {
   });
 
   await check("a malformed dropped file shows an error while frames go on", async () => {
-    await page.goto(`${base}?demo=rigid`);
+    await page.goto(`${base}?demo=rigid&backend=gpu`);
     const before = await until(page, "the demo", (s) => s.frame >= 5);
     await page.evaluate(() => {
       const data = new DataTransfer();

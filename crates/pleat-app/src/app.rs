@@ -4,6 +4,7 @@
 //! device hands the run over to a new start on a new device
 //! ([`crate::recovery`]).
 
+use crate::backend_trial::{BackendTrial, Running};
 use crate::demos::{shipped_files, Demo, PatternChoice};
 use crate::device::DeviceWatch;
 use crate::platform::Inbox;
@@ -31,7 +32,9 @@ pub struct Options {
     pub demo: String,
     /// A scene to open instead (name, bytes), with files beside it.
     pub files: Vec<(String, Vec<u8>)>,
-    pub backend: BackendChoice,
+    /// The backend asked for; `None` tries both on each scene and keeps
+    /// the faster ([`crate::backend_trial`]).
+    pub backend: Option<BackendChoice>,
     /// Parameters to set at the start (name, value).
     pub set: Vec<(String, f64)>,
 }
@@ -41,7 +44,7 @@ impl Default for Options {
         Options {
             demo: crate::demos::DEMOS[0].id.to_string(),
             files: Vec::new(),
-            backend: BackendChoice::Gpu,
+            backend: None,
             set: Vec::new(),
         }
     }
@@ -75,11 +78,17 @@ pub struct PleatApp {
     opened: u64,
     generation: u64,
     gpu: Option<GpuContext>,
-    backend: BackendChoice,
+    /// The backend asked for, or `None` to pick the faster per scene.
+    backend: Option<BackendChoice>,
+    /// The trial of both backends on the open scene, while the backend is
+    /// picked by measurement (not asked for, nor chosen on the panel).
+    pub trial: Option<BackendTrial>,
     /// Meshes and patterns shipped or dropped, for scenes that name them.
     files: InMemory,
     inbox: Inbox,
     last_frame: Option<Instant>,
+    /// When the app started: the trial's clock.
+    started: Instant,
     step_once: bool,
     /// The scene (its `opened` count) whose instability paused the run:
     /// it pauses once, and the person may play on.
@@ -132,7 +141,7 @@ impl PleatApp {
     }
 
     /// An app with nothing open and no device yet.
-    fn bare(backend: BackendChoice) -> Self {
+    fn bare(backend: Option<BackendChoice>) -> Self {
         PleatApp {
             session: None,
             demo: None,
@@ -148,9 +157,11 @@ impl PleatApp {
             generation: 0,
             gpu: None,
             backend,
+            trial: None,
             files: shipped_files(),
             inbox: Inbox::default(),
             last_frame: None,
+            started: Instant::now(),
             step_once: false,
             halted: None,
             watch: None,
@@ -215,9 +226,16 @@ impl PleatApp {
     }
 
     fn open(&mut self, scene: Scene, file: String) {
-        let backend = self.demo.and_then(|d| d.backend).unwrap_or(self.backend);
+        let backend = self
+            .backend
+            .or(self.demo.and_then(|d| d.backend))
+            .unwrap_or(BackendChoice::Gpu);
         match Session::new(scene, file, self.files.clone(), backend, self.gpu.clone()) {
             Ok(session) => {
+                // Both backends are tried where both can run and none was asked for.
+                self.trial = (self.backend.is_none() && self.gpu.is_some())
+                    .then(|| BackendTrial::new(session.backend));
+                self.probe.backend_pick = None;
                 // An error belongs to the action that caused it: a scene
                 // that opens replaces what an earlier one left on screen.
                 self.probe.last_error = None;
@@ -360,6 +378,19 @@ impl PleatApp {
         let Some(session) = &mut self.session else {
             return;
         };
+        if let Some(trial) = &mut self.trial {
+            let running = Running {
+                now: (now - self.started).as_secs_f64(),
+                backend: session.backend,
+                moving: session.is_pending(),
+                frame: self.probe.frame,
+                playing: self.playing,
+            };
+            if let Some(to) = trial.observe(running) {
+                session.request(crate::session::Pending::Backend(to));
+            }
+            self.probe.backend_pick = trial.verdict();
+        }
         if (self.playing || self.step_once) && !session.is_pending() {
             session.step(1.0 / session.scene.fps);
             self.probe.frame += 1;

@@ -9,6 +9,7 @@
 //! `start` on a page made by `cargo xtask web`.
 
 pub mod app;
+pub mod backend_trial;
 pub mod demos;
 pub mod device;
 pub mod dropped;
@@ -66,7 +67,8 @@ thread_local! {
 }
 
 /// Starts the app on the page's `<canvas id="pleat">`, with the demo and
-/// backend the URL asks for (`?demo=fold&backend=cpu`).
+/// backend the URL asks for (`?demo=fold&backend=cpu`; without a backend,
+/// the faster on each scene).
 #[cfg(target_arch = "wasm32")]
 #[wasm_bindgen::prelude::wasm_bindgen(start)]
 pub fn start() {
@@ -127,9 +129,11 @@ fn url_options() -> Options {
         if let Some(demo) = params.get("demo") {
             options.demo = demo;
         }
-        if params.get("backend").as_deref() == Some("cpu") {
-            options.backend = BackendChoice::Cpu;
-        }
+        options.backend = match params.get("backend").as_deref() {
+            Some("cpu") => Some(BackendChoice::Cpu),
+            Some("gpu") => Some(BackendChoice::Gpu),
+            _ => None,
+        };
     }
     options
 }

@@ -1,4 +1,4 @@
-//! The native app: `pleat-app [FILES] [--demo ID] [--backend cpu|gpu]`, and
+//! The native app: `pleat-app [FILES] [--demo ID] [--backend auto|cpu|gpu]`, and
 //! for tests `--frames N --screenshot out.png` (a picture of the window
 //! after N frames, then exit, printing the app's state as JSON) and
 //! `--lose-device-at N` (the device destroyed at frame N: the window opens
@@ -30,8 +30,8 @@ mod native {
         /// Demo to open: rigid, fold, sdf, wind, self or drape.
         #[arg(long, default_value = "rigid")]
         demo: String,
-        /// cpu or gpu.
-        #[arg(long, default_value = "gpu")]
+        /// auto (time both on each scene, keep the faster), cpu or gpu.
+        #[arg(long, default_value = "auto")]
         backend: String,
         /// Parameters to set, as NAME=VALUE (e.g. gravity=-3).
         #[arg(long = "set")]
@@ -62,9 +62,14 @@ mod native {
 
     fn options(args: &Args) -> Result<Options, String> {
         let backend = match args.backend.as_str() {
-            "cpu" => BackendChoice::Cpu,
-            "gpu" => BackendChoice::Gpu,
-            other => return Err(format!("--backend: expected cpu or gpu, got '{other}'")),
+            "auto" => None,
+            "cpu" => Some(BackendChoice::Cpu),
+            "gpu" => Some(BackendChoice::Gpu),
+            other => {
+                return Err(format!(
+                    "--backend: expected auto, cpu or gpu, got '{other}'"
+                ))
+            }
         };
         let mut files = Vec::new();
         for path in &args.files {

@@ -114,9 +114,18 @@ fn backend_and_view(ui: &mut egui::Ui, app: &mut PleatApp) {
                 && session.backend != choice
             {
                 session.request(Pending::Backend(choice));
+                // The person's choice ends the trial of both.
+                app.trial = None;
             }
         }
     });
+    if let Some(trial) = &app.trial {
+        ui.label(
+            trial
+                .verdict()
+                .unwrap_or_else(|| "timing both backends on this scene...".into()),
+        );
+    }
     ui.label(format!("device: {}", session.sim.device()));
     if let Some(dispatches) = session.sim.backend().dispatches_per_frame() {
         // A small sheet's frame runs in one workgroup: a handful of dispatches.

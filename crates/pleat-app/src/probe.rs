@@ -49,6 +49,9 @@ pub struct Probe {
     pub paused: bool,
     /// Why the backend asked for is not in use, or notes on it.
     pub notice: Option<String>,
+    /// Which backend was picked as the faster for this scene, with both
+    /// rates, once both are timed ([`crate::backend_trial`]).
+    pub backend_pick: Option<String>,
     /// Whether the mouse holds a particle.
     pub grabbing: bool,
     /// Where (CSS pixels, window points natively) a point of the cloth is drawn.

@@ -24,6 +24,8 @@ fn the_window_runs_a_demo_and_takes_a_screenshot() {
     let out = run_in_xvfb(&[
         "--demo",
         "fold",
+        "--backend",
+        "gpu",
         "--frames",
         "15",
         "--size",
@@ -51,6 +53,8 @@ fn a_lost_device_reopens_the_window_and_the_run_goes_on() {
     let out = run_in_xvfb(&[
         "--demo",
         "wind",
+        "--backend",
+        "gpu",
         "--lose-device-at",
         "8",
         "--frames",
@@ -79,6 +83,50 @@ fn a_lost_device_reopens_the_window_and_the_run_goes_on() {
         "{state}"
     );
     assert_shows_something(&image::open(&png).unwrap().to_rgba8(), &png);
+}
+
+#[test]
+fn without_a_backend_asked_for_both_are_timed_and_the_faster_kept() {
+    let dir = std::env::temp_dir().join(format!("pleat-app-auto-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("fold.png");
+    let out = run_in_xvfb(&[
+        "--demo",
+        "fold",
+        "--frames",
+        "300",
+        "--size",
+        "640x400",
+        "--screenshot",
+        png.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let state: serde_json::Value = serde_json::from_slice(&out.stdout).expect("the state as JSON");
+    let pick = state["backend_pick"]
+        .as_str()
+        .expect("a verdict after 300 frames");
+    // "picked GPU: GPU 30.1 steps/s, CPU 29.5 steps/s"
+    let rate = |name: &str| -> f64 {
+        let at = pick.find(&format!("{name} ")).unwrap() + name.len() + 1;
+        let (rate, _) = pick[at..].split_once(" steps/s").unwrap();
+        rate.parse().unwrap()
+    };
+    let (cpu, gpu) = (rate("CPU"), rate("GPU"));
+    assert!(cpu > 0.0 && gpu > 0.0, "{pick}");
+    let kept = state["backend"].as_str().unwrap();
+    assert!(
+        pick.starts_with(&format!("picked {}", kept.to_uppercase())),
+        "{state}"
+    );
+    // The one kept is not the slower by more than the trial's margin.
+    let (kept_rate, other) = if kept == "gpu" {
+        (gpu, cpu)
+    } else {
+        (cpu, gpu)
+    };
+    assert!(kept_rate * 1.1 >= other, "{pick}");
+    assert!(state["last_error"].is_null(), "{state}");
 }
 
 /// Many colours and a spread of brightness: not a blank or one-colour window.
@@ -110,6 +158,6 @@ fn refused(args: &[&str]) -> String {
 
 #[test]
 fn bad_arguments_exit_2_with_the_reason() {
-    assert!(refused(&["--backend", "quantum"]).contains("--backend: expected cpu or gpu"));
+    assert!(refused(&["--backend", "quantum"]).contains("--backend: expected auto, cpu or gpu"));
     assert!(refused(&["--set", "gravity"]).contains("NAME=VALUE"));
 }
