@@ -3,39 +3,45 @@
 //! few frames on the GPU backend and writes a screenshot that shows the
 //! panels and the cloth. CI installs xvfb; without it this test fails.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 const APP: &str = env!("CARGO_BIN_EXE_pleat-app");
 
-fn run_in_xvfb(args: &[&str]) -> std::process::Output {
-    Command::new("xvfb-run")
+/// Runs the app under Xvfb with `args` and a screenshot into a folder of
+/// its own named after `test`; the state it prints on exit, and the
+/// screenshot's path.
+fn run_in_xvfb(test: &str, args: &[&str]) -> (serde_json::Value, PathBuf) {
+    let dir = std::env::temp_dir().join(format!("pleat-app-{test}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("screenshot.png");
+    let out = Command::new("xvfb-run")
         .args(["-a", "-s", "-screen 0 1280x800x24", APP])
         .args(args)
+        .args(["--screenshot", png.to_str().unwrap()])
         .output()
-        .expect("xvfb-run (Debian package xvfb) runs the app")
+        .expect("xvfb-run (Debian package xvfb) runs the app");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let state = serde_json::from_slice(&out.stdout).expect("the state as JSON");
+    (state, png)
 }
 
 #[test]
 fn the_window_runs_a_demo_and_takes_a_screenshot() {
-    let dir = std::env::temp_dir().join(format!("pleat-app-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let png = dir.join("fold.png");
-    let out = run_in_xvfb(&[
-        "--demo",
+    let (state, png) = run_in_xvfb(
         "fold",
-        "--backend",
-        "gpu",
-        "--frames",
-        "15",
-        "--size",
-        "960x600",
-        "--screenshot",
-        png.to_str().unwrap(),
-    ]);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{stderr}");
-    let state: serde_json::Value = serde_json::from_slice(&out.stdout).expect("the state as JSON");
+        &[
+            "--demo",
+            "fold",
+            "--backend",
+            "gpu",
+            "--frames",
+            "15",
+            "--size",
+            "960x600",
+        ],
+    );
     assert!(state["frame"].as_u64().unwrap() >= 15, "{state}");
     assert_eq!(state["backend"], "gpu", "{state}");
     assert!(state["last_error"].is_null(), "{state}");
@@ -47,26 +53,21 @@ fn the_window_runs_a_demo_and_takes_a_screenshot() {
 
 #[test]
 fn a_lost_device_reopens_the_window_and_the_run_goes_on() {
-    let dir = std::env::temp_dir().join(format!("pleat-app-lost-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let png = dir.join("wind.png");
-    let out = run_in_xvfb(&[
-        "--demo",
-        "wind",
-        "--backend",
-        "gpu",
-        "--lose-device-at",
-        "8",
-        "--frames",
-        "20",
-        "--size",
-        "960x600",
-        "--screenshot",
-        png.to_str().unwrap(),
-    ]);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{stderr}");
-    let state: serde_json::Value = serde_json::from_slice(&out.stdout).expect("the state as JSON");
+    let (state, png) = run_in_xvfb(
+        "lost",
+        &[
+            "--demo",
+            "wind",
+            "--backend",
+            "gpu",
+            "--lose-device-at",
+            "8",
+            "--frames",
+            "20",
+            "--size",
+            "960x600",
+        ],
+    );
     let lost = state["device_lost"].as_str().unwrap_or_default();
     assert!(
         lost.starts_with("the GPU device was lost at frame 8 (destroyed); recovered: the simulation continues on a new GPU device from t = "),
@@ -87,22 +88,10 @@ fn a_lost_device_reopens_the_window_and_the_run_goes_on() {
 
 #[test]
 fn without_a_backend_asked_for_both_are_timed_and_the_faster_kept() {
-    let dir = std::env::temp_dir().join(format!("pleat-app-auto-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let png = dir.join("fold.png");
-    let out = run_in_xvfb(&[
-        "--demo",
-        "fold",
-        "--frames",
-        "300",
-        "--size",
-        "640x400",
-        "--screenshot",
-        png.to_str().unwrap(),
-    ]);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{stderr}");
-    let state: serde_json::Value = serde_json::from_slice(&out.stdout).expect("the state as JSON");
+    let (state, _) = run_in_xvfb(
+        "auto",
+        &["--demo", "fold", "--frames", "300", "--size", "640x400"],
+    );
     let pick = state["backend_pick"]
         .as_str()
         .expect("a verdict after 300 frames");
