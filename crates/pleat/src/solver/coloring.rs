@@ -28,12 +28,29 @@ pub fn greedy_colors<C>(
         }
         color_of.push(color);
     }
-    let mut order: Vec<usize> = (0..items.len()).collect();
-    order.sort_by_key(|&i| color_of[i]); // stable: keeps mesh order inside a colour
+    let order = by_color(&color_of);
     let ranges = color_ranges(&order, &color_of);
     let mut slots: Vec<Option<C>> = items.into_iter().map(Some).collect();
     let sorted = order.iter().filter_map(|&i| slots[i].take()).collect();
     (sorted, ranges)
+}
+
+/// The items' indices sorted by colour, in their order within a colour (a
+/// counting sort: the colours are few).
+fn by_color(color_of: &[u32]) -> Vec<usize> {
+    let mut start = vec![0usize; MAX_PARALLEL_COLORS as usize + 2];
+    for &c in color_of {
+        start[c as usize + 1] += 1;
+    }
+    for c in 1..start.len() {
+        start[c] += start[c - 1];
+    }
+    let mut order = vec![0; color_of.len()];
+    for (i, &c) in color_of.iter().enumerate() {
+        order[start[c as usize]] = i;
+        start[c as usize] += 1;
+    }
+    order
 }
 
 /// Ranges of equal colour over the sorted order; the overflow colour becomes

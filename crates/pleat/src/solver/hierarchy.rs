@@ -306,37 +306,42 @@ fn independent_set(graph: &Graph, inv_mass: &[f32]) -> Vec<bool> {
 }
 
 /// How each moving particle of the level that is not coarse follows its
-/// nearest coarse neighbours (weights inversely as the edges' limits).
+/// nearest coarse neighbours (weights inversely as the edges' limits), in
+/// the level's order (each particle is found on its own, in parallel).
 fn prolongation(graph: &Graph, coarse: &[bool], inv_mass: &[f32]) -> Vec<Prolongation> {
-    let mut out = Vec::new();
-    for (i, edges) in graph.edges.iter().enumerate() {
-        let particle = graph.particles[i];
-        if coarse[i] || inv_mass[particle as usize] == 0.0 {
-            continue;
-        }
-        let mut parents: Vec<(f32, usize)> = edges
-            .iter()
-            .filter(|&&(j, _)| coarse[j])
-            .map(|&(j, limit)| (limit, j))
-            .collect();
-        parents.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        parents.truncate(MAX_PARENTS);
-        let total: f32 = parents.iter().map(|&(l, _)| 1.0 / l).sum();
-        if parents.is_empty() || !total.is_finite() {
-            continue;
-        }
-        let mut p = Prolongation {
-            particle,
-            parents: [particle; MAX_PARENTS],
-            weights: [0.0; MAX_PARENTS],
-        };
-        for (k, &(limit, j)) in parents.iter().enumerate() {
-            p.parents[k] = graph.particles[j];
-            p.weights[k] = (1.0 / limit) / total;
-        }
-        out.push(p);
-    }
-    out
+    graph
+        .edges
+        .par_iter()
+        .enumerate()
+        .with_min_len(MIN_TASK)
+        .filter_map(|(i, edges)| {
+            let particle = graph.particles[i];
+            if coarse[i] || inv_mass[particle as usize] == 0.0 {
+                return None;
+            }
+            let mut parents: Vec<(f32, usize)> = edges
+                .iter()
+                .filter(|&&(j, _)| coarse[j])
+                .map(|&(j, limit)| (limit, j))
+                .collect();
+            parents.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            parents.truncate(MAX_PARENTS);
+            let total: f32 = parents.iter().map(|&(l, _)| 1.0 / l).sum();
+            if parents.is_empty() || !total.is_finite() {
+                return None;
+            }
+            let mut p = Prolongation {
+                particle,
+                parents: [particle; MAX_PARENTS],
+                weights: [0.0; MAX_PARENTS],
+            };
+            for (k, &(limit, j)) in parents.iter().enumerate() {
+                p.parents[k] = graph.particles[j];
+                p.weights[k] = (1.0 / limit) / total;
+            }
+            Some(p)
+        })
+        .collect()
 }
 
 /// The coarse particles, joined where a path of at most [`PATH_EDGES`]
@@ -346,33 +351,49 @@ fn prolongation(graph: &Graph, coarse: &[bool], inv_mass: &[f32]) -> Vec<Prolong
 fn coarse_graph(graph: &Graph, coarse: &[bool], rest: Option<(&[Vec3], f32)>) -> Graph {
     let mut index = vec![usize::MAX; coarse.len()];
     let mut particles = Vec::new();
+    let mut of_level = Vec::new();
     for (i, _) in coarse.iter().enumerate().filter(|(_, &c)| c) {
         index[i] = particles.len();
         particles.push(graph.particles[i]);
+        of_level.push(i);
     }
-    let mut edges = vec![Vec::new(); particles.len()];
-    let mut best = vec![f32::INFINITY; coarse.len()];
-    let mut touched = Vec::new();
-    for (i, _) in coarse.iter().enumerate().filter(|(_, &c)| c) {
-        shortest_paths(graph, i, PATH_EDGES, (&mut best, &mut touched));
-        for &j in &touched {
-            if j != i && coarse[j] {
-                let limit = match rest {
-                    Some((rest, scale)) => {
-                        let [a, b] = [i, j].map(|k| rest[graph.particles[k] as usize]);
-                        scale * a.distance(b)
+    // The coarse particles in a few chunks a thread, each chunk with its
+    // own scratch of the level's size.
+    let chunk = of_level
+        .len()
+        .div_ceil(4 * rayon::current_num_threads())
+        .max(MIN_TASK);
+    let edges = of_level
+        .par_chunks(chunk)
+        .flat_map_iter(|chunk| {
+            let mut best = vec![f32::INFINITY; coarse.len()];
+            let mut touched = Vec::new();
+            let rows: Vec<Vec<(usize, f32)>> = chunk
+                .iter()
+                .map(|&i| {
+                    shortest_paths(graph, i, PATH_EDGES, (&mut best, &mut touched));
+                    let mut row = Vec::new();
+                    for &j in &touched {
+                        if j != i && coarse[j] {
+                            let limit = match rest {
+                                Some((rest, scale)) => {
+                                    let [a, b] = [i, j].map(|k| rest[graph.particles[k] as usize]);
+                                    scale * a.distance(b)
+                                }
+                                None => best[j],
+                            };
+                            row.push((index[j], limit));
+                        }
+                        best[j] = f32::INFINITY;
                     }
-                    None => best[j],
-                };
-                edges[index[i]].push((index[j], limit));
-            }
-            best[j] = f32::INFINITY;
-        }
-        touched.clear();
-    }
-    for e in &mut edges {
-        e.sort_by_key(|&(j, _)| j);
-    }
+                    touched.clear();
+                    row.sort_by_key(|&(j, _)| j);
+                    row
+                })
+                .collect();
+            rows
+        })
+        .collect();
     Graph { particles, edges }
 }
 

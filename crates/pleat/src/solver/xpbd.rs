@@ -25,6 +25,8 @@ use crate::paper::{full_angle, Paper};
 use crate::particles::Particles;
 use crate::world::World;
 use glam::Vec3;
+use rayon::iter::Either;
+use rayon::prelude::*;
 
 /// Pins a tethered particle hangs from (its nearest ones).
 const TETHERS_PER_PARTICLE: usize = 2;
@@ -191,21 +193,24 @@ impl XpbdConstraints {
         let mut hinges = Vec::new();
         let mut tethers = Vec::new();
         for (index, cloth) in model.cloths.iter().enumerate() {
-            distance.extend(edge_constraints(cloth, index, &model.rest));
+            distance.par_extend(edge_constraints(cloth, index, &model.rest));
             if let Some(paper) = &cloth.paper {
                 hinges.extend(hinge_constraints(paper, cloth, index, &model.rest));
             } else {
                 match cloth.material.bending {
                     BendingModel::Dihedral => {
-                        bending.extend(dihedral_constraints(cloth, index, &model.rest))
+                        bending.par_extend(dihedral_constraints(cloth, index, &model.rest))
                     }
                     BendingModel::Isometric => {
-                        for d in dihedral_constraints(cloth, index, &model.rest) {
-                            match isometric_if_flat(&d, &model.rest) {
-                                Some(c) => isometric.push(c),
-                                None => bending.push(d),
-                            }
-                        }
+                        let (flat, curved): (Vec<_>, Vec<_>) =
+                            dihedral_constraints(cloth, index, &model.rest).partition_map(|d| {
+                                match isometric_if_flat(&d, &model.rest) {
+                                    Some(c) => Either::Left(c),
+                                    None => Either::Right(d),
+                                }
+                            });
+                        isometric.extend(flat);
+                        bending.extend(curved);
                     }
                     BendingModel::SkipOne => {
                         distance.extend(skip_one_constraints(cloth, index, &model.rest))
@@ -467,8 +472,8 @@ fn edge_constraints<'a>(
     cloth: &'a ClothPart,
     index: usize,
     rest: &'a [Vec3],
-) -> impl Iterator<Item = DistanceConstraint> + 'a {
-    cloth.topology.edges.iter().map(move |e| {
+) -> impl IndexedParallelIterator<Item = DistanceConstraint> + 'a {
+    cloth.topology.edges.par_iter().map(move |e| {
         let kind = if cloth.mesh.is_grid_diagonal(e.v[0], e.v[1]) {
             ComplianceKind::Shear
         } else {
@@ -526,11 +531,11 @@ fn dihedral_constraints<'a>(
     cloth: &'a ClothPart,
     index: usize,
     rest: &'a [Vec3],
-) -> impl Iterator<Item = DihedralBending> + 'a {
+) -> impl IndexedParallelIterator<Item = DihedralBending> + 'a {
     cloth
         .topology
         .pairs
-        .iter()
+        .par_iter()
         .map(move |pair| DihedralBending {
             slot: Compliances::slot(index, ComplianceKind::Bend),
             ..DihedralBending::at_rest(pair.v.map(|i| cloth.global(i)), rest, 1.0)
