@@ -48,7 +48,10 @@ pub struct Session {
     /// Where the fold's progress goes, and how fast (progress per second).
     pub fold_target: f32,
     pub fold_speed: f32,
-    pending: Option<Pending>,
+    /// Changes waiting for the state: a rebuild, a move, or both (neither
+    /// replaces the other).
+    rebuild: bool,
+    moving_to: Option<BackendChoice>,
     gpu: Option<GpuContext>,
     /// The last finite state read back from the GPU backend.
     last_read: Option<State>,
@@ -137,7 +140,8 @@ impl Session {
             notice,
             fold_target,
             fold_speed,
-            pending: None,
+            rebuild: false,
+            moving_to: None,
             gpu,
             last_read: None,
         })
@@ -150,12 +154,15 @@ impl Session {
 
     /// Asks for `change` once the state is on the CPU.
     pub fn request(&mut self, change: Pending) {
-        self.pending = Some(change);
+        match change {
+            Pending::Rebuild => self.rebuild = true,
+            Pending::Backend(choice) => self.moving_to = Some(choice),
+        }
     }
 
     /// Whether a change waits for the state.
     pub fn is_pending(&self) -> bool {
-        self.pending.is_some()
+        self.rebuild || self.moving_to.is_some()
     }
 
     /// Advances one frame of `dt` seconds (the fold's progress with it).
@@ -176,22 +183,22 @@ impl Session {
     }
 
     /// Asks for the state without waiting, takes it if it has come back,
-    /// and then makes the change that waited for it. Says whether the
-    /// model was rebuilt, or why the change failed.
+    /// and then makes the changes that waited for it: the rebuild, then
+    /// the move. Says whether the model was rebuilt, or why it failed.
     pub fn poll(&mut self) -> Result<bool, String> {
         self.sim.request_sync();
         if !self.sim.try_sync() {
             return Ok(false);
         }
         self.keep_state();
-        match self.pending.take() {
-            None => Ok(false),
-            Some(Pending::Backend(choice)) => {
-                self.move_to(choice);
-                Ok(false)
-            }
-            Some(Pending::Rebuild) => self.rebuild().map(|()| true).map_err(|e| e.to_string()),
+        let rebuilt = std::mem::take(&mut self.rebuild);
+        if rebuilt {
+            self.rebuild().map_err(|e| e.to_string())?;
         }
+        if let Some(choice) = self.moving_to.take() {
+            self.move_to(choice);
+        }
+        Ok(rebuilt)
     }
 
     /// Keeps the state just read back from the GPU (if finite: a read
@@ -234,7 +241,7 @@ impl Session {
     /// where the run goes on.
     pub fn recover(&mut self, gpu: Option<GpuContext>) -> Result<String, SceneErrors> {
         self.gpu = gpu;
-        self.pending = None;
+        (self.rebuild, self.moving_to) = (false, None);
         // On the CPU the state never left it; nothing read back yet: the
         // scene's start.
         let state = match (self.backend, self.last_read.take()) {
@@ -360,6 +367,22 @@ mod tests {
         s.poll().unwrap();
         assert!(!s.is_pending());
         assert_eq!(s.sim.particles.x, before);
+    }
+
+    #[test]
+    fn a_rebuild_asked_for_while_a_move_waits_makes_both() {
+        // A move (refused here: no GPU) and a parameter's rebuild.
+        let mut s = session("wind");
+        s.request(Pending::Backend(BackendChoice::Gpu));
+        s.scene.gravity = Vec3::new(0.0, 3.0, 0.0);
+        s.request(Pending::Rebuild);
+        assert_eq!(s.poll(), Ok(true), "rebuilt");
+        assert!(!s.is_pending());
+        assert_eq!(s.sim.world.gravity, Vec3::new(0.0, 3.0, 0.0));
+        assert!(
+            s.notice.as_deref().unwrap().contains("CPU"),
+            "the move was tried"
+        );
     }
 
     #[test]
