@@ -389,7 +389,9 @@ impl PleatApp {
             if let Some(to) = trial.observe(running) {
                 session.request(crate::session::Pending::Backend(to));
             }
-            self.probe.backend_pick = trial.verdict();
+            if self.probe.backend_pick.is_none() {
+                self.probe.backend_pick = trial.verdict();
+            }
         }
         if (self.playing || self.step_once) && !session.is_pending() {
             session.step(1.0 / session.scene.fps);

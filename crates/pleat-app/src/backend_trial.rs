@@ -99,16 +99,14 @@ impl BackendTrial {
     pub fn observe(&mut self, run: Running) -> Option<BackendChoice> {
         match self.phase {
             Phase::Decided(_) => None,
-            Phase::Settling { on, .. } | Phase::Timing { on, .. } if !run.playing => {
+            // A change waits (a rebuild): the clock runs on, and the trial
+            // asks for no move over it.
+            Phase::Timing { .. } if run.moving && run.playing => None,
+            // Paused, or the move not made yet: warm up again afterwards.
+            Phase::Settling { on, .. } | Phase::Timing { on, .. } if run.moving || !run.playing => {
                 self.phase = Phase::Settling { on, since: None };
                 None
             }
-            Phase::Settling { on, .. } if run.moving => {
-                self.phase = Phase::Settling { on, since: None };
-                None
-            }
-            // A change waits (a rebuild): the trial asks for no move over it.
-            Phase::Timing { .. } if run.moving => None,
             Phase::Settling { on, .. } if run.backend != on => {
                 // The move was refused (no GPU that runs the scene).
                 self.rates.push(Rate {
@@ -151,10 +149,7 @@ impl BackendTrial {
     /// After a backend's rate: the other backend's turn, or the verdict;
     /// the backend to move to, if any (`running` runs now).
     fn next(&mut self, running: BackendChoice) -> Option<BackendChoice> {
-        let other = match running {
-            BackendChoice::Cpu => BackendChoice::Gpu,
-            BackendChoice::Gpu => BackendChoice::Cpu,
-        };
+        let other = running.other();
         if !self.rates.iter().any(|r| r.backend == other) {
             self.phase = Phase::Settling {
                 on: other,
@@ -183,19 +178,11 @@ impl BackendTrial {
     pub fn verdict(&self) -> Option<String> {
         let kept = self.decided()?;
         let rate = |r: &Rate| match r.steps_per_second {
-            Some(s) => format!("{} {s:.1} steps/s", name(r.backend)),
-            None => format!("{} could not run it", name(r.backend)),
+            Some(s) => format!("{} {s:.1} steps/s", r.backend.name()),
+            None => format!("{} could not run it", r.backend.name()),
         };
         let rates: Vec<String> = self.rates.iter().map(rate).collect();
-        Some(format!("picked {}: {}", name(kept), rates.join(", ")))
-    }
-}
-
-/// A backend's name on the panel.
-fn name(backend: BackendChoice) -> &'static str {
-    match backend {
-        BackendChoice::Cpu => "CPU",
-        BackendChoice::Gpu => "GPU",
+        Some(format!("picked {}: {}", kept.name(), rates.join(", ")))
     }
 }
 

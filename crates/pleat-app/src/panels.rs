@@ -107,9 +107,9 @@ fn backend_and_view(ui: &mut egui::Ui, app: &mut PleatApp) {
     };
     ui.horizontal(|ui| {
         ui.label("backend");
-        for (choice, name) in [(BackendChoice::Cpu, "CPU"), (BackendChoice::Gpu, "GPU")] {
+        for choice in BackendChoice::ALL {
             if ui
-                .selectable_label(session.backend == choice, name)
+                .selectable_label(session.backend == choice, choice.name())
                 .clicked()
                 && session.backend != choice
             {
@@ -119,12 +119,9 @@ fn backend_and_view(ui: &mut egui::Ui, app: &mut PleatApp) {
             }
         }
     });
-    if let Some(trial) = &app.trial {
-        ui.label(
-            trial
-                .verdict()
-                .unwrap_or_else(|| "timing both backends on this scene...".into()),
-        );
+    if app.trial.is_some() {
+        let verdict = app.probe.backend_pick.as_deref();
+        ui.label(verdict.unwrap_or("timing both backends on this scene..."));
     }
     ui.label(format!("device: {}", session.sim.device()));
     if let Some(dispatches) = session.sim.backend().dispatches_per_frame() {

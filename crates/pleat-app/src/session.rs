@@ -22,6 +22,27 @@ pub enum BackendChoice {
     Gpu,
 }
 
+impl BackendChoice {
+    /// Both, in the panel's order.
+    pub const ALL: [BackendChoice; 2] = [BackendChoice::Cpu, BackendChoice::Gpu];
+
+    /// Its name on the panel.
+    pub fn name(self) -> &'static str {
+        match self {
+            BackendChoice::Cpu => "CPU",
+            BackendChoice::Gpu => "GPU",
+        }
+    }
+
+    /// The other backend.
+    pub fn other(self) -> BackendChoice {
+        match self {
+            BackendChoice::Cpu => BackendChoice::Gpu,
+            BackendChoice::Gpu => BackendChoice::Cpu,
+        }
+    }
+}
+
 /// A change that needs the state on the CPU first.
 #[derive(Clone, Debug)]
 pub enum Pending {

@@ -30,7 +30,6 @@ struct ParamsSlot {
     pad: array<vec4<u32>, 6>,
 }
 
-
 // Invocations of the workgroup, set by the host (crate::backend::persistent).
 override THREADS: u32 = 64u;
 // Invocations that sum a free cloth's shares, each over every SUMMING-th

@@ -96,8 +96,9 @@ fn the_miura_ori_crosses_itself_without_contact_and_not_with_it() {
 }
 
 /// The layer order of a flat fold follows its creases: across every crease
-/// folded flat (Origami Simulator's bird base leaves some at 90 degrees) the two faces are stacked, each on the side the other's
-/// normal points to for a valley and away from it for a mountain (FOLD's
+/// folded flat (Origami Simulator's bird base leaves some at 90 degrees)
+/// the two faces are stacked, each on the side the other's normal points
+/// to for a valley and away from it for a mountain (FOLD's
 /// faceOrders +1 and -1 for faces wound as the sheet's are). A fold whose
 /// layers ended the wrong way round, or an order read the wrong way up,
 /// fails here.

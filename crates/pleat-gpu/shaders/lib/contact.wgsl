@@ -11,9 +11,9 @@
 // (2 once its overflow is counted);
 // then counters the host reads back and clears: the candidates solved
 // and the contacts that acted, summed over substeps, the builds, and the
-// most pairs a build found that did not all fit (0: none overflowed); then the least and the greatest
-// displacement since the build along each axis (as keys ordered as the
-// floats are).
+// most pairs a build found that did not all fit (0: none overflowed);
+// then the least and the greatest displacement since the build along each
+// axis (as keys ordered as the floats are).
 const FOUND: u32 = 0u;
 const FRESH: u32 = 1u;
 const SOLVED: u32 = 2u;

@@ -209,9 +209,7 @@ impl SelfContactBuffers {
             told_full: false,
         }
     }
-}
 
-impl SelfContactBuffers {
     /// After a build found `found` pairs, more than the candidates hold
     /// (those beyond were not solved), a buffer for [`GROWTH`] times as
     /// many (twice the last at least), up to the largest a binding takes,

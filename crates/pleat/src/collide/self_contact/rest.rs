@@ -14,7 +14,7 @@
 //!   closer at rest than [`PAPER_EXCLUSION`] times the thickness, so that a
 //!   flap folded onto the facet next to it is held a thickness away.
 
-use super::csr::csr;
+use super::csr::{csr, row};
 use super::folded::RestGraph;
 use crate::collide::ccd;
 use crate::model::Model;
@@ -125,7 +125,7 @@ impl RestNeighbourhood {
                 i,
                 j,
                 self.triangle_exclusion[self.cloth[i as usize] as usize],
-            ) && super::csr::row(&self.layer_start, &self.layer, i as usize)
+            ) && row(&self.layer_start, &self.layer, i as usize)
                 .binary_search(&j)
                 .is_err()
     }
