@@ -4,7 +4,8 @@
 use pleat::fold_steps::sheet_step_angles;
 use pleat::mesh::obj::load_obj;
 use pleat::origami::{
-    check_flat_foldability, load_pattern_with_warnings, parse_pattern_steps, Sheet, SheetOptions,
+    check_flat_foldability, load_pattern_with_warnings, parse_pattern_steps, FlatFolded, Sheet,
+    SheetOptions,
 };
 use pleat::scene::Scene;
 use std::path::{Path, PathBuf};
@@ -15,12 +16,20 @@ pub struct CheckArgs {
     /// Scene (.json), mesh (.obj) and crease-pattern (.cp, .fold, .svg) files.
     #[arg(required = true)]
     files: Vec<PathBuf>,
+    /// Write the flat-folded state of each crease pattern that has one to
+    /// DIR/NAME.fold: its vertices where they land (2D), its triangles and
+    /// their layer order (`faceOrders`).
+    #[arg(long, value_name = "DIR")]
+    folded_out: Option<PathBuf>,
 }
 
 pub fn check(args: &CheckArgs) -> Result<ExitCode, String> {
     let mut bad = 0;
+    if let Some(dir) = &args.folded_out {
+        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    }
     for path in &args.files {
-        match summary(path) {
+        match summary(path, args.folded_out.as_deref()) {
             Ok(line) => crate::print_line(format_args!("ok   {}: {line}", path.display())),
             Err(errors) => {
                 bad += 1;
@@ -38,8 +47,9 @@ pub fn check(args: &CheckArgs) -> Result<ExitCode, String> {
     })
 }
 
-/// One-line description of a valid file, or its errors.
-fn summary(path: &Path) -> Result<String, String> {
+/// One-line description of a valid file, or its errors; a pattern's
+/// flat-folded state goes to `folded_out`, where given.
+fn summary(path: &Path, folded_out: Option<&Path>) -> Result<String, String> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -55,7 +65,7 @@ fn summary(path: &Path) -> Result<String, String> {
                 mesh.triangles.len()
             ))
         }
-        "cp" | "fold" | "svg" => pattern_summary(path),
+        "cp" | "fold" | "svg" => pattern_summary(path, folded_out),
         _ => Err(format!(
             "{}: unknown file type '.{ext}': expected .json, .obj, .cp, .fold or .svg",
             path.display()
@@ -80,7 +90,7 @@ fn scene_summary(path: &Path) -> Result<String, String> {
     ))
 }
 
-fn pattern_summary(path: &Path) -> Result<String, String> {
+fn pattern_summary(path: &Path, folded_out: Option<&Path>) -> Result<String, String> {
     let (pattern, warnings) = load_pattern_with_warnings(path).map_err(|e| e.to_string())?;
     let sheet = Sheet::from_pattern(&pattern, &SheetOptions::default())
         .map_err(|e| e.with_file(path.display().to_string()).to_string())?;
@@ -115,6 +125,28 @@ fn pattern_summary(path: &Path) -> Result<String, String> {
             flat.max_kawasaki_defect_deg
         )
     });
+    if flat.is_flat_foldable() && flat.vertices_skipped == 0 {
+        line.push_str(&match FlatFolded::solve(&sheet) {
+            Ok(folded) => {
+                let mut found = format!(
+                    "; layer order found: {} facets, {} pairs overlap when folded flat, {} conditions",
+                    folded.facet_count(),
+                    folded.overlapping_pairs(),
+                    folded.condition_count()
+                );
+                if let Some(dir) = folded_out {
+                    let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("pattern");
+                    let out = dir.join(format!("{stem}.fold"));
+                    let json = folded.to_fold_json(&sheet, stem);
+                    let text = serde_json::to_string(&json).map_err(|e| e.to_string())?;
+                    std::fs::write(&out, text + "\n").map_err(|e| format!("{}: {e}", out.display()))?;
+                    found.push_str(&format!(" (written to {})", out.display()));
+                }
+                found
+            }
+            Err(e) => format!("; not flat-foldable as a whole, {e}"),
+        });
+    }
     for w in warnings {
         line.push_str(&format!("; warning: {w}"));
     }

@@ -12,15 +12,16 @@ use crate::{backend_for, check_backend, with_threads};
 use pleat::fold_steps::{sheet_step_angles, FoldSteps};
 use pleat::folding::{
     folded_state_fold, paper_model, paper_simulation_on, paper_solver_settings_with_contact,
-    FoldRamp,
+    FoldRamp, LayerOrderFigures,
 };
 use pleat::origami::{
     builtin, check_flat_foldability, load_pattern, parse_pattern_steps, CreasePattern,
-    FlatFoldability, Sheet, SheetOptions, BUILTIN_NAMES,
+    FlatFoldability, FlatFolded, PatternError, Sheet, SheetOptions, BUILTIN_NAMES,
 };
 use pleat::Simulation;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::time::Duration;
 
 /// Frames the paper is left to settle at the final progress.
 const SETTLE_FRAMES: u32 = 60;
@@ -81,6 +82,22 @@ pub struct Paper {
     pub summary: String,
     /// Kawasaki's and Maekawa's theorems at the pattern's vertices.
     pub flat_foldability: FlatFoldability,
+    /// The flat-folded state and its layer order, where every crease folds
+    /// flat and every vertex meets the theorems.
+    pub flat_folded: Option<Result<FlatFolded, PatternError>>,
+}
+
+impl Paper {
+    /// report.json's contents for the run that took `frame_times`.
+    fn report(&self, frame_times: &[Duration], threads: usize) -> Report {
+        Report {
+            flat_foldability: Some(self.flat_foldability.clone()),
+            layer_order: self.flat_folded.as_ref().map(|solved| {
+                LayerOrderFigures::of(solved, &self.sim.model.cloths[0], &self.sim.particles.x)
+            }),
+            ..Report::named(&self.sim, &self.name, FRAME_DT, frame_times, threads)
+        }
+    }
 }
 
 /// What a fold without pictures measured and wrote.
@@ -123,6 +140,9 @@ pub fn paper(args: &PaperArgs) -> Result<Paper, String> {
         .map_err(|e| e.with_file(args.pattern.clone()).to_string())?;
     let flat_foldability = check_flat_foldability(&pattern)
         .map_err(|e| e.with_file(args.pattern.clone()).to_string())?;
+    let flat_folded = (flat_foldability.is_flat_foldable()
+        && flat_foldability.vertices_skipped == 0)
+        .then(|| FlatFolded::solve(&sheet));
     let ramp = FoldRamp {
         progress: args.progress,
         frames: args.frames,
@@ -154,6 +174,7 @@ pub fn paper(args: &PaperArgs) -> Result<Paper, String> {
         name,
         summary,
         flat_foldability,
+        flat_folded,
     })
 }
 
@@ -179,10 +200,7 @@ pub fn fold_meshes(args: &PaperArgs) -> Result<Folded, String> {
         simulate(&mut paper.sim, &paper.name, frames, 1, Some(&mut sink))
     })??;
     let steps = sink.states;
-    let report = Report {
-        flat_foldability: Some(paper.flat_foldability.clone()),
-        ..Report::named(&paper.sim, &paper.name, FRAME_DT, &frame_times, threads)
-    };
+    let report = paper.report(&frame_times, threads);
     let mut written: Vec<PathBuf> = write_outputs(&report, output, &args.output)?
         .into_iter()
         .collect();
@@ -209,37 +227,29 @@ fn frames(sim: &Simulation, args: &PaperArgs) -> (u32, f32) {
 
 pub fn fold(args: &FoldArgs) -> Result<ExitCode, String> {
     let report = if args.render {
-        let Paper {
-            mut sim,
-            name,
-            summary,
-            flat_foldability,
-        } = paper(&args.paper)?;
+        let mut paper = paper(&args.paper)?;
         let threads = rayon_threads(args.paper.output.threads)?;
         let dir = args
             .paper
             .output
             .out
             .clone()
-            .unwrap_or_else(|| Path::new("out").join(&name));
+            .unwrap_or_else(|| Path::new("out").join(&paper.name));
         let settings = args.picture.settings(None, Path::new("."))?;
         let every = args.paper.output.every;
-        let mut pictures = Pictures::create(&dir, &sim, settings, FRAME_DT * every as f32)?;
-        let frames = frames(&sim, &args.paper);
-        let mut sink = StepStates::new(&sim, Some(&mut pictures), every.max(1));
+        let mut pictures = Pictures::create(&dir, &paper.sim, settings, FRAME_DT * every as f32)?;
+        let frames = frames(&paper.sim, &args.paper);
+        let mut sink = StepStates::new(&paper.sim, Some(&mut pictures), every.max(1));
         let frame_times = with_threads(args.paper.output.threads, || {
-            simulate(&mut sim, &name, frames, 1, Some(&mut sink))
+            simulate(&mut paper.sim, &paper.name, frames, 1, Some(&mut sink))
         })??;
         let steps = sink.states;
-        let report = Report {
-            flat_foldability: Some(flat_foldability),
-            ..Report::named(&sim, &name, FRAME_DT, &frame_times, threads)
-        };
-        crate::print_line(summary);
+        let report = paper.report(&frame_times, threads);
+        crate::print_line(&paper.summary);
         print_flat_foldability(&report);
         crate::render::finish(&report, &pictures, &dir)?;
         if let Some(path) = &args.paper.fold_out {
-            write_folded_state(&sim, &steps, path)?;
+            write_folded_state(&paper.sim, &steps, path)?;
             crate::print_line(format_args!("wrote {}", path.display()));
         }
         report
@@ -270,6 +280,36 @@ fn print_flat_foldability(report: &Report) {
         crate::print_line(check.summary());
     } else {
         eprintln!("warning: {}", check.summary());
+    }
+    if let Some(layers) = &report.layer_order {
+        print_layer_order(layers);
+    }
+}
+
+/// Prints the pattern's layer order and how the folded paper's layers
+/// agree with it: a line when they do, a warning where they do not.
+fn print_layer_order(layers: &LayerOrderFigures) {
+    let Some(sim) = &layers.simulated else {
+        eprintln!(
+            "warning: {}",
+            layers.reason.as_deref().unwrap_or("no layer order")
+        );
+        return;
+    };
+    let order = format!(
+        "layer order: {} facets, {} pairs overlap when folded flat, {} conditions",
+        layers.facets, layers.overlapping_pairs, layers.conditions
+    );
+    if sim.valid {
+        crate::print_line(format_args!(
+            "{order}; the folded paper stacks {} pairs, in a valid order ({} as solved)",
+            sim.pairs, sim.as_solved
+        ));
+    } else {
+        eprintln!(
+            "warning: {order}; the folded paper's {} stacked pairs break it: {} creases stacked the wrong way round, {} of {} conditions broken, {} pairs stacked both ways",
+            sim.pairs, sim.creases_broken, sim.conditions_broken, sim.conditions_checked, sim.both_ways
+        );
     }
 }
 

@@ -1,6 +1,6 @@
 //! report.json: what a run measured (DESIGN.md section 5).
 
-use pleat::folding::FoldMetrics;
+use pleat::folding::{FoldMetrics, LayerOrderFigures};
 use pleat::origami::FlatFoldability;
 use pleat::scene::Scene;
 use pleat::solver::{SolverKind, StageTimes};
@@ -60,6 +60,10 @@ pub struct Report {
     /// vertices (`pleat fold` only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub flat_foldability: Option<FlatFoldability>,
+    /// The layer order of a pattern that folds flat, and the folded paper's
+    /// layers checked against it (`pleat fold` only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub layer_order: Option<LayerOrderFigures>,
 }
 
 /// Milliseconds per frame over the run.
@@ -187,6 +191,7 @@ impl Report {
             kinetic_energy: m.kinetic_energy,
             origami: FoldMetrics::measure(sim),
             flat_foldability: None,
+            layer_order: None,
         }
     }
 

@@ -51,6 +51,70 @@ fn a_flat_fold_writes_its_face_orders() {
     assert!(ok, "{text}");
 }
 
+/// The fold's report checks the folded paper's layers against the
+/// pattern's flat-folded state; `pleat check` finds that state's layer
+/// order, writes it, and says where a pattern has none.
+#[test]
+fn layer_orders_are_found_written_and_checked_against_the_fold() {
+    let dir = scratch("layer-order");
+    let (ok, text) = pleat(&[
+        "fold",
+        "waterbomb-base",
+        "--thickness",
+        "0.0005",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(ok, "{text}");
+    assert!(
+        text.contains("layer order: 6 facets, 11 pairs overlap when folded flat"),
+        "{text}"
+    );
+    assert!(text.contains("in a valid order"), "{text}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    let layers = &report["layer_order"];
+    assert_eq!(layers["found"], true, "{layers}");
+    assert_eq!(layers["simulated"]["valid"], true, "{layers}");
+    assert_eq!(layers["simulated"]["pairs"], 11, "{layers}");
+
+    let out = dir.join("flat");
+    let (ok, text) = pleat(&[
+        "check",
+        "waterbomb-base.fold",
+        "--folded-out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!ok, "a name that is no file: {text}");
+    let pattern = patterns().join("waterbomb-base.fold");
+    let twist = patterns().join("square-twist.fold");
+    let (ok, text) = pleat(&[
+        "check",
+        pattern.to_str().unwrap(),
+        twist.to_str().unwrap(),
+        "--folded-out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{text}");
+    assert!(text.contains("layer order found: 6 facets"), "{text}");
+    // The built-in square twist meets both theorems at every vertex, but
+    // its corner flaps cannot be stacked.
+    assert!(
+        text.contains("not flat-foldable as a whole, no layer order"),
+        "{text}"
+    );
+    let fold: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("waterbomb-base.fold")).unwrap())
+            .unwrap();
+    assert_eq!(fold["faceOrders"].as_array().unwrap().len(), 11, "{fold}");
+    assert_eq!(
+        fold["vertices_coords"].as_array().unwrap().len(),
+        7,
+        "{fold}"
+    );
+    assert!(!out.join("square-twist.fold").exists());
+}
+
 #[test]
 fn builtin_folds_and_reports_fold_angle_errors() {
     let dir = scratch("miura");

@@ -19,7 +19,7 @@ use crate::metrics::layer_order::face_orders;
 use crate::metrics::strain::facet_strain;
 use crate::model::{ClothPart, Model};
 use crate::origami::fold::assignment_letter;
-use crate::origami::{Assignment, Hinge, Sheet};
+use crate::origami::{Assignment, FlatFolded, Hinge, LayerCheck, PatternError, Sheet};
 pub use crate::paper::{
     full_angle, paper_material, FoldRamp, Paper, PaperStiffness, PAPER_DENSITY, PAPER_MAX_STRAIN,
     PAPER_STRETCH_COMPLIANCE, PAPER_THICKNESS, PAPER_VERTEX_MASS,
@@ -339,6 +339,61 @@ impl FoldMetrics {
                     of: s.len(),
                 }),
         })
+    }
+}
+
+/// What a report says of the layer order of a pattern that folds flat.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct LayerOrderFigures {
+    /// Whether the flat-folded pattern has a layer order
+    /// ([`FlatFolded::solve`]).
+    pub found: bool,
+    /// Why not, where it has none.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+    /// Facets (pieces of paper between creases), pairs of them that overlap
+    /// in the flat-folded state, and the conditions on their order.
+    pub facets: usize,
+    /// Pairs of facets that overlap when folded flat.
+    pub overlapping_pairs: usize,
+    /// Conditions (taco-taco, taco-tortilla, transitivity) on their order.
+    pub conditions: usize,
+    /// The simulated paper's stacked layers now, checked against the
+    /// creases and conditions; absent where no order was found.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub simulated: Option<LayerCheck>,
+}
+
+impl LayerOrderFigures {
+    /// The figures of `solved` (a pattern's flat-folded state, or why it has
+    /// none) against the paper part `cloth` at positions `x` (global
+    /// indices).
+    pub fn of(
+        solved: &Result<FlatFolded, PatternError>,
+        cloth: &ClothPart,
+        x: &[Vec3],
+    ) -> LayerOrderFigures {
+        match solved {
+            Ok(folded) => {
+                let orders = face_orders(&x[cloth.particles()], &cloth.mesh.triangles);
+                LayerOrderFigures {
+                    found: true,
+                    reason: None,
+                    facets: folded.facet_count(),
+                    overlapping_pairs: folded.overlapping_pairs(),
+                    conditions: folded.condition_count(),
+                    simulated: Some(folded.check(orders.iter().map(|o| (o.f, o.g, o.s)))),
+                }
+            }
+            Err(e) => LayerOrderFigures {
+                found: false,
+                reason: Some(e.to_string()),
+                facets: 0,
+                overlapping_pairs: 0,
+                conditions: 0,
+                simulated: None,
+            },
+        }
     }
 }
 

@@ -151,3 +151,42 @@ fn a_flat_fold_stacks_its_layers_as_its_creases_say() {
         assert!(checked > 0, "{name}: no crease checked");
     }
 }
+
+/// Folded with a thickness, flat-foldable patterns end with their layers in
+/// an order their flat-folded state allows: every crease's facets stacked
+/// as its assignment says, no fold with a facet wrongly inside it, no
+/// three layers in a cycle ([`FlatFolded::check`]). The same layers read
+/// the other way up break it, so the check can fail.
+#[test]
+fn folded_paper_stacks_its_layers_in_an_order_the_flat_fold_allows() {
+    use pleat::folding::LayerOrderFigures;
+    use pleat::metrics::layer_order::face_orders;
+    use pleat::origami::FlatFolded;
+    let patterns = [
+        ("waterbomb-base", builtin("waterbomb-base").unwrap()),
+        ("singlesquaretwist.svg", shared("singlesquaretwist.svg")),
+        ("lines.cp", shared("lines.cp")),
+    ];
+    for (name, pattern) in patterns {
+        let sheet = Sheet::from_pattern(&pattern, &SheetOptions::default()).unwrap();
+        let solved = FlatFolded::solve(&sheet);
+        let (sim, most) = fold(&pattern, PAPER_THICKNESS);
+        assert_eq!(most, 0, "{name}: crossed itself");
+        let figures = LayerOrderFigures::of(&solved, &sim.model.cloths[0], &sim.particles.x);
+        let check = figures.simulated.expect("an order");
+        assert!(check.valid, "{name}: {check:?}");
+        assert_eq!(
+            check.pairs, figures.overlapping_pairs,
+            "{name}: every pair stacked"
+        );
+        let orders = face_orders(&sim.particles.x, &sim.model.triangles);
+        let reversed = solved
+            .as_ref()
+            .unwrap()
+            .check(orders.iter().map(|o| (o.f, o.g, -o.s)));
+        assert!(
+            !reversed.valid && reversed.creases_broken > 0,
+            "{name}: {reversed:?}"
+        );
+    }
+}

@@ -9,6 +9,7 @@
 
 pub mod builtin;
 pub mod cp;
+pub mod flat_fold;
 pub mod flat_foldability;
 pub mod fold;
 pub mod load;
@@ -21,6 +22,7 @@ mod unfold;
 
 pub use builtin::{builtin, Kresling, MiuraOri, BUILTIN_NAMES};
 pub use cp::parse_cp;
+pub use flat_fold::{FlatFolded, LayerCheck};
 pub use flat_foldability::{check_flat_foldability, FlatFoldability, Theorem, Violation};
 pub use fold::{parse_fold, parse_fold_frames, to_fold_json};
 pub use load::{load_pattern, load_pattern_with_warnings, parse_pattern, parse_pattern_steps};
