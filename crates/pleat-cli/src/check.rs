@@ -129,9 +129,10 @@ fn pattern_summary(path: &Path, folded_out: Option<&Path>) -> Result<String, Str
         line.push_str(&match FlatFolded::solve(&sheet) {
             Ok(folded) => {
                 let mut found = format!(
-                    "; layer order found: {} facets, {} pairs overlap when folded flat, {} conditions",
+                    "; layer order found: {} facets, {} pairs overlap when folded flat ({} forced), {} conditions",
                     folded.facet_count(),
                     folded.overlapping_pairs(),
+                    folded.forced_pairs(),
                     folded.condition_count()
                 );
                 if let Some(dir) = folded_out {

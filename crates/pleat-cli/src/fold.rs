@@ -297,8 +297,8 @@ fn print_layer_order(layers: &LayerOrderFigures) {
         return;
     };
     let order = format!(
-        "layer order: {} facets, {} pairs overlap when folded flat, {} conditions",
-        layers.facets, layers.overlapping_pairs, layers.conditions
+        "layer order: {} facets, {} pairs overlap when folded flat ({} forced), {} conditions",
+        layers.facets, layers.overlapping_pairs, layers.forced_pairs, layers.conditions
     );
     if sim.valid {
         crate::print_line(format_args!(

@@ -17,7 +17,8 @@
 //! strain limit, 0 for none), `NOISE` (metres of
 //! random initial height), `MAX_EDGE` (metres: the sheet refined to
 //! triangles no larger), `THICK` (metres: the paper's thickness, its layers
-//! kept apart by self-contact; 0, the default, for none). Each line counts
+//! kept apart by self-contact; 0, the default, for none), `LAYERS` (0: the
+//! contacts do without the pattern's layer order). Each line counts
 //! the self-intersections `x` and the self-contacts that acted so far
 //! (`acts`). Output: `EVERY` (frames between lines, 20),
 //! `WRONG=1` (each crease on the wrong side at each line), `LIST=1` (each
@@ -85,6 +86,11 @@ fn main() {
             facet_compliance: setting("FC", defaults.facet_compliance),
         },
     );
+    if setting("LAYERS", 1.0) == 0.0 {
+        if let Some(paper) = model.cloths[0].paper.as_mut() {
+            paper.layers = None;
+        }
+    }
     let world = World {
         gravity: Vec3::ZERO,
         ..World::default()

@@ -72,6 +72,7 @@ impl Model {
             hinges: sheet.hinges.clone(),
             stiffness,
             steps: Vec::new(),
+            layers: FlatFolded::solve(sheet).ok().map(|f| f.facet_sides()),
         });
         let particles = part.particles();
         self.mass[particles].fill(PAPER_VERTEX_MASS);
@@ -356,6 +357,9 @@ pub struct LayerOrderFigures {
     pub facets: usize,
     /// Pairs of facets that overlap when folded flat.
     pub overlapping_pairs: usize,
+    /// Of those, the pairs whose order every valid order shares (forced by
+    /// the creases and conditions): the ones contacts keep in order.
+    pub forced_pairs: usize,
     /// Conditions (taco-taco, taco-tortilla, transitivity) on their order.
     pub conditions: usize,
     /// The simulated paper's stacked layers now, checked against the
@@ -381,6 +385,7 @@ impl LayerOrderFigures {
                     reason: None,
                     facets: folded.facet_count(),
                     overlapping_pairs: folded.overlapping_pairs(),
+                    forced_pairs: folded.forced_pairs(),
                     conditions: folded.condition_count(),
                     simulated: Some(folded.check(orders.iter().map(|o| (o.f, o.g, o.s)))),
                 }
@@ -390,6 +395,7 @@ impl LayerOrderFigures {
                 reason: Some(e.to_string()),
                 facets: 0,
                 overlapping_pairs: 0,
+                forced_pairs: 0,
                 conditions: 0,
                 simulated: None,
             },

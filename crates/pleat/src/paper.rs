@@ -60,7 +60,7 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use crate::material::Material;
-use crate::origami::{Assignment, Hinge};
+use crate::origami::{Assignment, FacetSides, Hinge};
 
 /// Areal density of 80 g/m^2 office paper (kg/m^2).
 pub const PAPER_DENSITY: f32 = 0.08;
@@ -120,6 +120,10 @@ pub struct Paper {
     /// (radians, valley positive, `None` when undriven; in the order of
     /// `hinges`). Empty: the part folds in one go ([`crate::fold_steps`]).
     pub steps: Vec<Vec<Option<f32>>>,
+    /// The layer order of the pattern folded flat, where it has one
+    /// ([`crate::origami::FlatFolded`]): self-contacts keep each facet on
+    /// its side of the facets it overlaps there.
+    pub layers: Option<FacetSides>,
 }
 
 impl Paper {

@@ -228,7 +228,8 @@ struct Scan<'a> {
 #[derive(Clone, Debug, Default)]
 struct Near {
     vertices: Vec<(u32, Aabb, f32)>,
-    triangles: Vec<([u32; 3], Aabb, f32)>,
+    /// Corners, global index, box, motion.
+    triangles: Vec<([u32; 3], u32, Aabb, f32)>,
     edges: Vec<([u32; 2], Aabb, f32)>,
 }
 
@@ -253,7 +254,7 @@ impl Near {
             let tri = scan.rest.triangles[t as usize];
             let (b, m) = feature(&tri);
             if b.overlaps(other) {
-                self.triangles.push((tri, b, m));
+                self.triangles.push((tri, t, b, m));
             }
         }
         for &e in scan.patches.edges(p) {
@@ -349,7 +350,7 @@ impl Scan<'_> {
     /// Vertices of `a` against triangles of `b`.
     fn vertex_triangle(&self, a: &Near, b: &Near, out: &mut Vec<Contact>) {
         for &(p, pb, pm) in &a.vertices {
-            for &(tri, tb, tm) in &b.triangles {
+            for &(tri, t, tb, tm) in &b.triangles {
                 let v = [p, tri[0], tri[1], tri[2]];
                 if !pb.overlaps(&tb) || !self.dynamic(&v) {
                     continue;
@@ -360,7 +361,12 @@ impl Scan<'_> {
                 if ccd::point_triangle_distance(xp, xa, xb, xc) < self.reach(pm, tm)
                     && !self.rest.vertex_triangle_excluded(p, tri)
                 {
-                    out.push(Contact::VertexTriangle(v));
+                    let side = self
+                        .rest
+                        .layers
+                        .as_ref()
+                        .map_or(0, |l| l.vertex_triangle(p, t));
+                    out.push(Contact::VertexTriangle(v, side));
                 }
             }
         }
@@ -401,6 +407,7 @@ impl Scan<'_> {
                         u,
                         may_cross: distance <= em + fm,
                         crossed: None,
+                        belongs: self.rest.layers.as_ref().and_then(|l| l.edge_edge(e, f)),
                     }));
                 }
             }

@@ -31,6 +31,7 @@
 mod broad_phase;
 mod csr;
 mod folded;
+mod layer_sides;
 mod narrow_phase;
 mod normal_cone;
 mod patches;

@@ -36,14 +36,21 @@ pub(super) struct EdgePair {
     /// Once found to have crossed: the unit direction from `b` to `a` at the
     /// substep's start.
     pub crossed: Option<Vec3>,
+    /// Where paper's layer order gives it: a triangle of a facet of `b`
+    /// and the side of it (along its normal) that `a` belongs on
+    /// ([`super::layer_sides`]); edges that cross towards it are let
+    /// through.
+    pub belongs: Option<([u32; 3], i8)>,
 }
 
 /// A candidate contact.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) enum Contact {
     Pair([u32; 2]),
-    /// Vertex, then the triangle's corners.
-    VertexTriangle([u32; 4]),
+    /// Vertex, then the triangle's corners; the side of the triangle (of
+    /// its normal) the vertex belongs on in paper's layer order, 0 where
+    /// none is known ([`super::layer_sides`]).
+    VertexTriangle([u32; 4], i8),
     EdgeEdge(EdgePair),
 }
 
@@ -51,7 +58,7 @@ impl Contact {
     pub fn particles(&self) -> &[u32] {
         match self {
             Contact::Pair(v) => v,
-            Contact::VertexTriangle(v) | Contact::EdgeEdge(EdgePair { v, .. }) => v,
+            Contact::VertexTriangle(v, _) | Contact::EdgeEdge(EdgePair { v, .. }) => v,
         }
     }
 
@@ -93,7 +100,9 @@ impl Contact {
     ) -> Option<[Vec3; 4]> {
         match self {
             Contact::Pair(v) => pair_correction(*v, x, x_prev, inv_mass, s),
-            Contact::VertexTriangle(v) => vertex_triangle_correction(*v, x, x_prev, inv_mass, s),
+            Contact::VertexTriangle(v, side) => {
+                vertex_triangle_correction(*v, *side, x, x_prev, inv_mass, s)
+            }
             Contact::EdgeEdge(e) => e.correction(x, x_prev, inv_mass, s),
         }
     }
@@ -112,6 +121,13 @@ impl EdgePair {
         };
         let [a0, a1, b0, b1] = v.map(|k| x_prev[k as usize]);
         let before = a0.lerp(a1, hit.s) - b0.lerp(b1, hit.u);
+        if let Some((t, side)) = self.belongs {
+            let [p, q, r] = t.map(|k| x_prev[k as usize]);
+            if before.dot((q - p).cross(r - p)) * f32::from(side) < 0.0 {
+                // From the side `a` does not belong on: let it through.
+                return;
+            }
+        }
         if let Some(normal) = before
             .try_normalize()
             .or_else(|| (a1 - a0).cross(b1 - b0).try_normalize())
@@ -192,9 +208,13 @@ fn pair_correction(
 }
 
 /// Corrections of a vertex closer to a triangle than the thickness, or that
-/// crossed it during the substep (kept on the side it came from).
+/// crossed it during the substep (kept on the side it came from). Where
+/// the layer order gives the side it belongs on (`belongs`, 1 or -1 along
+/// the triangle's normal), that side is kept instead, and a vertex that
+/// came from the other side is let through.
 fn vertex_triangle_correction(
     v: [u32; 4],
+    belongs: i8,
     x: &[Vec3],
     x_prev: &[Vec3],
     inv_mass: &[f32],
@@ -204,16 +224,24 @@ fn vertex_triangle_correction(
     let [p0, a0, b0, c0] = v.map(|k| x_prev[k as usize]);
     let normal = (b - a).cross(c - a).try_normalize()?;
     let start_height = (b0 - a0).cross(c0 - a0).dot(p0 - a0);
-    let side = if start_height != 0.0 {
+    let came_from = if start_height != 0.0 {
         start_height.signum()
     } else {
         normal.dot(p - a).signum()
+    };
+    let side = if belongs == 0 {
+        came_from
+    } else {
+        f32::from(belongs)
     };
     let height = side * normal.dot(p - a);
     if height >= s.thickness {
         return None;
     }
     let beta = if height < 0.0 {
+        if side != came_from {
+            return None;
+        }
         let sweep = |k: u32| Sweep {
             start: x_prev[k as usize],
             end: x[k as usize],
@@ -297,12 +325,68 @@ mod tests {
         let inv_mass = [1.0, 2.0, 0.5, 1.0];
         let s = SelfCollision::default();
         let v = [0, 1, 2, 3];
-        let d = vertex_triangle_correction(v, &x, &x_prev, &inv_mass, &s).expect("crossed");
+        let d = vertex_triangle_correction(v, 0, &x, &x_prev, &inv_mass, &s).expect("crossed");
         assert!(momentum_change(&v, d, &inv_mass).length() < 1e-6);
         let moved: Vec<Vec3> = x.iter().zip(d).map(|(x, d)| *x + d).collect();
         let normal = (moved[2] - moved[1]).cross(moved[3] - moved[1]).normalize();
         let side = normal.dot(moved[0] - moved[1]) * normal.dot(x_prev[0] - x_prev[1]).signum();
         assert!(side > 0.9 * s.thickness, "height {side}");
+    }
+
+    #[test]
+    fn a_vertex_is_let_through_towards_the_side_it_belongs_on_and_held_there() {
+        // A triangle in z = 0 (normal +z); the vertex rose through it.
+        let tri = [Vec3::ZERO, Vec3::X * 0.1, Vec3::Y * 0.1];
+        let x_prev = [Vec3::new(0.02, 0.02, -0.002), tri[0], tri[1], tri[2]];
+        let inv_mass = [1.0; 4];
+        let s = SelfCollision::default();
+        let v = [0, 1, 2, 3];
+        let lift = |end_z: f32, belongs: i8| {
+            let x = [Vec3::new(0.02, 0.02, end_z), tri[0], tri[1], tri[2]];
+            vertex_triangle_correction(v, belongs, &x, &x_prev, &inv_mass, &s).map(|d| d[0].z)
+        };
+        // Above by more than the thickness: let through where it belongs
+        // above, pulled back below where it belongs below or nothing is
+        // known (it came from below).
+        let far = 2.0 * s.thickness;
+        assert_eq!(lift(far, 1), None);
+        assert!(lift(far, -1).expect("crossed back") < 0.0);
+        assert!(lift(far, 0).expect("crossed back") < 0.0);
+        // Just above: held at the thickness above where it belongs above.
+        assert!(lift(0.2 * s.thickness, 1).expect("held above") > 0.0);
+        assert!(lift(0.2 * s.thickness, -1).expect("crossed back") < 0.0);
+        // Still below, where it belongs above: left alone (no crossing yet).
+        assert_eq!(lift(-0.5 * s.thickness, 1), None);
+    }
+
+    #[test]
+    fn crossing_edges_are_let_through_towards_the_side_they_belong_on() {
+        // Edge a drops through edge b, as in the test below. The triangle
+        // [2, 3, 4] holds edge b; its normal points to +y, where a came
+        // from.
+        let x_prev = [
+            Vec3::new(-0.1, 0.01, 0.0),
+            Vec3::new(0.1, 0.01, 0.0),
+            Vec3::new(0.02, 0.0, -0.1),
+            Vec3::new(0.02, 0.0, 0.1),
+            Vec3::new(0.2, 0.0, 0.0),
+        ];
+        let mut x = x_prev;
+        x[0].y = -0.01;
+        x[1].y = -0.01;
+        let normal = (x_prev[3] - x_prev[2]).cross(x_prev[4] - x_prev[2]);
+        assert!(normal.y > 0.0);
+        for (belongs, let_through) in [(-1, true), (1, false)] {
+            let mut contact = edge_pair([0, 1, 2, 3], &x, true);
+            if let Contact::EdgeEdge(e) = &mut contact {
+                e.belongs = Some(([2, 3, 4], belongs));
+            }
+            contact.detect_crossing(&x, &x_prev);
+            let Contact::EdgeEdge(e) = contact else {
+                unreachable!()
+            };
+            assert_eq!(e.crossed.is_none(), let_through, "belongs {belongs}");
+        }
     }
 
     /// The edge pair `v` as found at the end positions `x`.
@@ -315,6 +399,7 @@ mod tests {
             u,
             may_cross,
             crossed: None,
+            belongs: None,
         })
     }
 

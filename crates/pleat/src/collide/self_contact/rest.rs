@@ -16,6 +16,7 @@
 
 use super::csr::{csr, row};
 use super::folded::RestGraph;
+use super::layer_sides::LayerSides;
 use crate::collide::ccd;
 use crate::model::Model;
 use glam::Vec3;
@@ -48,6 +49,9 @@ pub(super) struct RestNeighbourhood {
     /// itself, not their corners').
     paper: Vec<bool>,
     thickness: f32,
+    /// The side each paper vertex belongs on of the triangles its facets
+    /// overlap when folded flat, where the paper has a layer order.
+    pub layers: Option<LayerSides>,
 }
 
 impl RestNeighbourhood {
@@ -103,6 +107,7 @@ impl RestNeighbourhood {
             triangle_exclusion,
             paper,
             thickness,
+            layers: LayerSides::new(model),
         }
     }
 

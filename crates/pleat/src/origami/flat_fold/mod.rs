@@ -37,9 +37,34 @@ pub struct FlatFolded {
     /// One value per pair of [`Problem::pairs`]: true when the first facet
     /// lies above the second.
     above: Vec<bool>,
+    /// Per pair, whether every valid order has it so: forced by the creases
+    /// and conditions alone, not by a choice of the search.
+    forced: Vec<bool>,
     /// Where each of the sheet's vertices lands (metres, in the plane of
     /// the first facet).
     positions: Vec<DVec2>,
+}
+
+/// A layer order as the simulation uses it: the facet of each triangle, and
+/// for each ordered pair of overlapping facets `[f, g]` the side of `g`
+/// that `f` lies on when folded flat (1: the side `g`'s normal points to,
+/// -1: the other), sorted.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FacetSides {
+    /// The facet of each triangle of the sheet.
+    pub facet_of: Vec<u32>,
+    /// `([f, g], side)`, sorted by pair.
+    pub sides: Vec<([u32; 2], i8)>,
+}
+
+impl FacetSides {
+    /// The side of facet `g` that facet `f` lies on, if they overlap.
+    pub fn side(&self, f: u32, g: u32) -> Option<i8> {
+        self.sides
+            .binary_search_by_key(&[f, g], |&(pair, _)| pair)
+            .ok()
+            .map(|k| self.sides[k].1)
+    }
 }
 
 /// How a given order of stacked triangles (a simulation's end) agrees with
@@ -81,7 +106,7 @@ impl FlatFolded {
     pub fn solve(sheet: &Sheet) -> Result<FlatFolded, PatternError> {
         let geometry = FoldedGeometry::of(sheet)?;
         let problem = Problem::of(&geometry);
-        let above = search::solve(&problem).map_err(|why| unsolved(&geometry, why))?;
+        let solution = search::solve(&problem).map_err(|why| unsolved(&geometry, why))?;
         let mut positions = vec![DVec2::ZERO; sheet.positions.len()];
         for (t, tri) in sheet.triangles.iter().enumerate() {
             let motion = &geometry.motion[geometry.facet_of[t] as usize];
@@ -93,7 +118,8 @@ impl FlatFolded {
         Ok(FlatFolded {
             geometry,
             problem,
-            above,
+            above: solution.values,
+            forced: solution.forced,
             positions,
         })
     }
@@ -133,6 +159,37 @@ impl FlatFolded {
         );
         let (var, sense) = self.problem.literal(f, g)?;
         Some(self.above[var] == sense)
+    }
+
+    /// Number of overlapping pairs whose order every valid order shares
+    /// (the creases and conditions force it).
+    pub fn forced_pairs(&self) -> usize {
+        self.forced.iter().filter(|&&f| f).count()
+    }
+
+    /// The side each facet lies on of every facet it overlaps, for the
+    /// pairs whose order is forced (the same in every valid order), for
+    /// contacts that keep layers in order ([`FacetSides`]). Pairs the
+    /// search chose are left out: paper may stack them either way.
+    pub fn facet_sides(&self) -> FacetSides {
+        let mut sides = Vec::with_capacity(2 * self.problem.pairs.len());
+        let pairs = self.problem.pairs.iter().zip(&self.above).zip(&self.forced);
+        for ((&[f, g], &f_above), _) in pairs.filter(|(_, &forced)| forced) {
+            let side = |above: bool, below: u32| {
+                if above != self.geometry.flipped(below) {
+                    1
+                } else {
+                    -1
+                }
+            };
+            sides.push(([f, g], side(f_above, g)));
+            sides.push(([g, f], side(!f_above, f)));
+        }
+        sides.sort_unstable();
+        FacetSides {
+            facet_of: self.geometry.facet_of.clone(),
+            sides,
+        }
     }
 
     /// The order as FOLD's `faceOrders` over the sheet's triangles: every

@@ -59,8 +59,17 @@ struct Search<'a> {
     trail: Vec<usize>,
 }
 
+/// A layer order found.
+pub(super) struct Solution {
+    /// One value per unknown.
+    pub(super) values: Vec<bool>,
+    /// Whether the creases and conditions force it, without a choice of the
+    /// search: true for the unknowns every valid order shares.
+    pub(super) forced: Vec<bool>,
+}
+
 /// One value for every unknown of `problem`, or why there is none.
-pub(super) fn solve(problem: &Problem) -> Result<Vec<bool>, Unsolved> {
+pub(super) fn solve(problem: &Problem) -> Result<Solution, Unsolved> {
     let mut search = Search::new(problem);
     for &(var, value) in &problem.fixed {
         if search.value[var] == Some(!value) {
@@ -74,12 +83,19 @@ pub(super) fn solve(problem: &Problem) -> Result<Vec<bool>, Unsolved> {
             problem.conditions[c as usize].facets().to_vec(),
         ));
     }
+    let mut forced = vec![false; problem.pairs.len()];
+    for &var in &search.trail {
+        forced[var] = true;
+    }
     search.depth_first()?;
-    Ok(search
-        .value
-        .into_iter()
-        .map(|v| v.unwrap_or(true))
-        .collect())
+    Ok(Solution {
+        values: search
+            .value
+            .into_iter()
+            .map(|v| v.unwrap_or(true))
+            .collect(),
+        forced,
+    })
 }
 
 /// Whether `values` (one per unknown, `None` where unknown) break
