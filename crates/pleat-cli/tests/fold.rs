@@ -329,8 +329,9 @@ fn patterns() -> PathBuf {
 
 #[test]
 fn a_multi_frame_fold_file_folds_step_after_step() {
-    // The crane's three steps (preliminary base, bird base, crane), 20
-    // frames each, then 60 to settle.
+    // The crane's six steps (preliminary base, bird base, legs narrowed,
+    // neck and tail reversed, head reversed, crane), 20 frames each, then
+    // 60 to settle.
     let dir = scratch("crane-steps");
     let crane = patterns().join("crane-in-steps.fold");
     let (ok, text) = pleat(&[
@@ -346,30 +347,30 @@ fn a_multi_frame_fold_file_folds_step_after_step() {
         dir.join("folded.fold").to_str().unwrap(),
     ]);
     assert!(ok, "{text}");
-    assert!(text.contains("folded in 3 steps of 20 frames"), "{text}");
+    assert!(text.contains("folded in 6 steps of 20 frames"), "{text}");
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
-    assert_eq!(report["frames"], 120);
+    assert_eq!(report["frames"], 180);
     assert_eq!(report["nan"], false);
-    assert_eq!(report["origami"]["fold_step"]["step"], 3);
-    assert_eq!(report["origami"]["fold_step"]["of"], 3);
-    // Meshes every 7th frame only, the step ends (20, 40, 60) not among them.
+    assert_eq!(report["origami"]["fold_step"]["step"], 6);
+    assert_eq!(report["origami"]["fold_step"]["of"], 6);
+    // Meshes every 7th frame only, the step ends (20, 40, ...) not among them.
     assert!(dir.join("frame_00007.obj").exists() && !dir.join("frame_00020.obj").exists());
     // The folded state at the end, and each step's end as a frame.
     let fold: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("folded.fold")).unwrap()).unwrap();
     let frames = fold["file_frames"].as_array().unwrap();
-    assert_eq!(frames.len(), 3);
-    assert_eq!(frames[0]["frame_title"], "end of step 1 of 3");
+    assert_eq!(frames.len(), 6);
+    assert_eq!(frames[0]["frame_title"], "end of step 1 of 6");
     let edges = fold["edges_vertices"].as_array().unwrap().len();
     for frame in frames {
         assert_eq!(frame["frame_parent"], 0);
         assert_eq!(frame["edges_foldAngle"].as_array().unwrap().len(), edges);
-        assert_eq!(frame["vertices_coords"].as_array().unwrap().len(), 60);
+        assert_eq!(frame["vertices_coords"].as_array().unwrap().len(), 68);
     }
     assert_ne!(frames[0]["vertices_coords"], frames[2]["vertices_coords"]);
     let (ok, text) = pleat(&["check", crane.to_str().unwrap()]);
-    assert!(ok && text.contains("folded in 3 steps"), "{text}");
+    assert!(ok && text.contains("folded in 6 steps"), "{text}");
     // --progress is a single fold's: refused for a fold in steps.
     let (ok, text) = pleat(&["fold", crane.to_str().unwrap(), "--progress", "0.5"]);
     assert!(!ok && text.contains("--progress does not apply"), "{text}");

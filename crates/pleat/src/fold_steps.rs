@@ -16,7 +16,7 @@ use std::collections::HashMap;
 
 use crate::constraint::OrigamiHinge;
 use crate::model::Model;
-use crate::origami::{CreasePattern, PatternError, Sheet, SheetOptions};
+use crate::origami::{Assignment, CreasePattern, PatternEdge, PatternError, Sheet, SheetOptions};
 use crate::paper::full_angle;
 
 /// The frames of each step of a fold and every paper hinge's angle at
@@ -177,9 +177,7 @@ pub fn sheet_step_angles(
             }
             let mut at_step = pattern.clone();
             for (edge, &angle) in at_step.edges.iter_mut().zip(angles) {
-                if edge.assignment.fold_sign().is_some() {
-                    edge.fold_angle = angle;
-                }
+                step_edge(edge, angle);
             }
             let stepped = Sheet::from_pattern(&at_step, options)?;
             let same = stepped.hinges.len() == sheet.hinges.len()
@@ -187,7 +185,7 @@ pub fn sheet_step_angles(
                     .hinges
                     .iter()
                     .zip(&sheet.hinges)
-                    .all(|(a, b)| a.v == b.v && a.assignment == b.assignment);
+                    .all(|(a, b)| a.v == b.v);
             if !same {
                 return Err(PatternError::new(
                     format!("step {}", k + 1),
@@ -199,9 +197,53 @@ pub fn sheet_step_angles(
         .collect()
 }
 
+/// `edge` as a step that gives it `angle` (degrees, valley positive)
+/// folds it: a crease or a flat line of the pattern folds the way the
+/// angle's sign says, which may be the other way from the finished model
+/// (a petal fold or a reverse fold turns creases over) or a line the model
+/// leaves flat (a preliminary base's book folds, opened by the bird base).
+/// Boundaries, cuts, auxiliary and unassigned lines keep what they are.
+fn step_edge(edge: &mut PatternEdge, angle: Option<f64>) {
+    if !matches!(
+        edge.assignment,
+        Assignment::Mountain | Assignment::Valley | Assignment::Flat
+    ) {
+        return;
+    }
+    match angle {
+        Some(a) if a > 0.0 => edge.assignment = Assignment::Valley,
+        Some(a) if a < 0.0 => edge.assignment = Assignment::Mountain,
+        _ if edge.assignment == Assignment::Flat => return,
+        _ => {}
+    }
+    edge.fold_angle = angle;
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_step_folds_creases_and_flat_lines_the_way_its_angle_says() {
+        let edge = |assignment| PatternEdge {
+            v: [0, 1],
+            assignment,
+            fold_angle: None,
+        };
+        let stepped = |assignment, angle| {
+            let mut e = edge(assignment);
+            step_edge(&mut e, angle);
+            (e.assignment, e.fold_angle)
+        };
+        use Assignment::*;
+        assert_eq!(stepped(Mountain, Some(180.0)), (Valley, Some(180.0)));
+        assert_eq!(stepped(Valley, Some(-90.0)), (Mountain, Some(-90.0)));
+        assert_eq!(stepped(Flat, Some(-180.0)), (Mountain, Some(-180.0)));
+        assert_eq!(stepped(Flat, Some(0.0)), (Flat, None));
+        assert_eq!(stepped(Mountain, Some(0.0)), (Mountain, Some(0.0)));
+        assert_eq!(stepped(Boundary, Some(180.0)), (Boundary, None));
+        assert_eq!(stepped(Auxiliary, Some(180.0)), (Auxiliary, None));
+    }
 
     #[test]
     fn steps_run_one_after_another_then_hold() {

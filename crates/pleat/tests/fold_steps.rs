@@ -274,3 +274,100 @@ fn the_shipped_scene_folds_in_its_three_steps() {
         .unwrap();
     assert_eq!(sim.fold_steps.as_ref().unwrap().frames, [80, 80, 120]);
 }
+
+/// A step may fold a crease the other way from the key frame, when its
+/// frame gives its own `edges_assignment`, and may fold a line the key
+/// frame leaves flat: the strip's crease B, a valley in the key frame, goes
+/// to a mountain in the first step; a flat line there would fold too.
+#[test]
+fn a_step_with_its_own_assignments_turns_a_crease_over() {
+    let file = strip(
+        r#", "file_frames": [
+        { "edges_foldAngle": [0,0,0,0,0,0,0,0,90,-90],
+          "edges_assignment": ["B","B","B","B","B","B","B","B","V","M"] } ]"#,
+    );
+    let pattern = parse_fold(&file).unwrap();
+    let steps = parse_fold_frames(&file, &pattern).unwrap();
+    assert_eq!(steps[0][9], Some(-90.0));
+    // Without its own assignments the frame's sign gives way to the key
+    // frame's, as before.
+    let file = strip(r#", "file_frames": [ { "edges_foldAngle": [0,0,0,0,0,0,0,0,90,-90] } ]"#);
+    let steps = parse_fold_frames(&file, &pattern).unwrap();
+    assert_eq!(steps[0][9], Some(90.0));
+    let bad = strip(
+        r#", "file_frames": [ { "edges_foldAngle": [0,0,0,0,0,0,0,0,90,-90],
+          "edges_assignment": ["B","V"] } ]"#,
+    );
+    let e = parse_fold_frames(&bad, &pattern).unwrap_err().to_string();
+    assert!(e.contains("file_frames[0].edges_assignment"), "{e}");
+}
+
+/// The shipped crane in six steps: every step but the last (whose wings
+/// stand at 90 degrees) is a state that folds flat, with a layer order; and
+/// its first two, the preliminary base and the bird base, fold with a
+/// thickness without crossing and within a degree and a half of their
+/// targets.
+#[test]
+fn the_crane_in_steps_is_a_sequence_of_flat_folds_and_its_bases_fold_clean() {
+    use pleat::fold_steps::{sheet_step_angles, FoldSteps};
+    use pleat::folding::{
+        paper_model, paper_simulation_on, paper_solver_settings_with_contact, FoldMetrics,
+        FoldRamp, PAPER_THICKNESS,
+    };
+    use pleat::metrics::intersections::count_self_intersections;
+    use pleat::origami::{FlatFolded, Sheet, SheetOptions};
+    use pleat::CpuBackend;
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../patterns/crane-in-steps.fold");
+    let text = std::fs::read_to_string(path).unwrap();
+    let pattern = parse_fold(&text).unwrap();
+    let steps = parse_fold_frames(&text, &pattern).unwrap();
+    assert_eq!(steps.len(), 6);
+    for (k, angles) in steps.iter().enumerate() {
+        let mut state = pattern.clone();
+        for (edge, angle) in state.edges.iter_mut().zip(angles) {
+            if matches!(
+                edge.assignment,
+                Assignment::Mountain | Assignment::Valley | Assignment::Flat
+            ) {
+                let a = angle.unwrap_or(0.0);
+                edge.assignment = if a > 0.0 {
+                    Assignment::Valley
+                } else if a < 0.0 {
+                    Assignment::Mountain
+                } else {
+                    Assignment::Flat
+                };
+                edge.fold_angle = Some(a);
+            }
+        }
+        let sheet = Sheet::from_pattern(&state, &SheetOptions::default()).unwrap();
+        let solved = FlatFolded::solve(&sheet);
+        assert_eq!(solved.is_ok(), k < 5, "step {}: {:?}", k + 1, solved.err());
+    }
+    // The first two steps, folded as `pleat fold` does.
+    let options = SheetOptions::default();
+    let sheet = Sheet::from_pattern(&pattern, &options).unwrap();
+    let (mut model, world) = paper_model(&sheet);
+    model.cloths[0].paper.as_mut().unwrap().steps =
+        sheet_step_angles(&pattern, &options, &sheet, &steps[..2]).unwrap();
+    let settings = paper_solver_settings_with_contact(PAPER_THICKNESS);
+    let backend = Box::new(CpuBackend::new(&model, &settings));
+    let ramp = FoldRamp {
+        progress: 1.0,
+        frames: 120,
+    };
+    let mut sim = paper_simulation_on((model, world), settings, backend, ramp);
+    sim.fold_steps = FoldSteps::of_model(&sim.model, &[120]);
+    for frame in 1..=300 {
+        sim.step(1.0 / 60.0);
+        if frame % 10 == 0 {
+            let crossings = count_self_intersections(&sim.particles.x, &sim.model.triangles);
+            assert_eq!(crossings, 0, "frame {frame}");
+        }
+    }
+    let m = FoldMetrics::measure(&sim).unwrap();
+    let e = m.max_fold_angle_error_deg;
+    assert!(e.mountain.max(e.valley) < 1.5, "{e:?}");
+    assert!(m.max_strain < 0.01, "{}", m.max_strain);
+}

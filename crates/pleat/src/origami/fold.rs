@@ -191,10 +191,37 @@ pub fn parse_fold_frames(
     }
     (0..objects.len())
         .map(|i| {
-            let (path, value) = frame_fold_angles(root, &objects, i)?;
-            step_angles(value, &path, pattern)
+            let (path, value, frame) = frame_fold_angles(root, &objects, i)?;
+            let own = frame_assignments(frame, &path, pattern.edges.len())?;
+            step_angles(value, &path, pattern, own.as_deref())
         })
         .collect()
+}
+
+/// The `edges_assignment` of the frame whose `edges_foldAngle` a step takes
+/// (`angles_path` is that array's path), where that frame has its own: a
+/// step may fold a crease the other way from the key frame (a petal fold
+/// or a reverse fold turns creases over), and says so there.
+fn frame_assignments(
+    frame: &Map<String, Value>,
+    angles_path: &str,
+    edge_count: usize,
+) -> Result<Option<Vec<Assignment>>, PatternError> {
+    if angles_path == "edges_foldAngle" {
+        // The key frame's own assignments are the pattern's.
+        return Ok(None);
+    }
+    let prefix = angles_path.trim_end_matches("edges_foldAngle");
+    let Some(list) = per_edge(frame, "edges_assignment", edge_count)
+        .map_err(|e| PatternError::new(format!("{prefix}{}", e.location), e.reason))?
+    else {
+        return Ok(None);
+    };
+    list.iter()
+        .enumerate()
+        .map(|(e, value)| assignment(value, &format!("{prefix}edges_assignment[{e}]")))
+        .collect::<Result<_, _>>()
+        .map(Some)
 }
 
 /// The `edges_foldAngle` frame `file_frames[i]` has or inherits, and its
@@ -203,7 +230,7 @@ fn frame_fold_angles<'a>(
     root: &'a Map<String, Value>,
     frames: &[&'a Map<String, Value>],
     i: usize,
-) -> Result<(String, &'a Value), PatternError> {
+) -> Result<(String, &'a Value, &'a Map<String, Value>), PatternError> {
     let mut id = i + 1;
     // Each step up goes to another frame; more steps than frames is a cycle.
     for _ in 0..=frames.len() {
@@ -213,7 +240,7 @@ fn frame_fold_angles<'a>(
             (frames[id - 1], format!("file_frames[{}].", id - 1))
         };
         if let Some(value) = frame.get("edges_foldAngle") {
-            return Ok((format!("{path}edges_foldAngle"), value));
+            return Ok((format!("{path}edges_foldAngle"), value, frame));
         }
         let here = match id {
             0 => "the key frame".to_string(),
@@ -258,6 +285,7 @@ fn step_angles(
     value: &Value,
     path: &str,
     pattern: &CreasePattern,
+    assignments: Option<&[Assignment]>,
 ) -> Result<Vec<Option<f64>>, PatternError> {
     let list = expect_array(value, path)?;
     if list.len() != pattern.edges.len() {
@@ -275,7 +303,8 @@ fn step_angles(
         .enumerate()
         .map(|(e, (value, edge))| {
             let path = format!("{path}[{e}]");
-            let angle = fold_angle(value, &path, edge.assignment)?;
+            let assignment = assignments.map_or(edge.assignment, |a| a[e]);
+            let angle = fold_angle(value, &path, assignment)?;
             if angle.is_some_and(|a| !(-180.0..=180.0).contains(&a)) {
                 return Err(PatternError::new(
                     path,
