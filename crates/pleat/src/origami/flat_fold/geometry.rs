@@ -11,7 +11,7 @@
 //! sheet, sets the tolerance of every later test, since patterns drawn by
 //! hand close only to their drawing's round-off.
 
-use std::collections::{HashMap, VecDeque};
+use std::collections::{HashMap, HashSet, VecDeque};
 
 use glam::{DMat2, DVec2};
 
@@ -244,7 +244,7 @@ struct Adjacency {
     links: Vec<Link>,
     creases: Vec<CreaseLink>,
     /// Edges that are creases or the paper's edge.
-    facet_edges: std::collections::HashSet<[u32; 2]>,
+    facet_edges: HashSet<[u32; 2]>,
 }
 
 impl Adjacency {
@@ -261,7 +261,7 @@ impl Adjacency {
         let mut around = vec![Vec::new(); sheet.triangles.len()];
         let mut links = Vec::new();
         let mut creases = Vec::new();
-        let mut facet_edges: std::collections::HashSet<[u32; 2]> = by_edge
+        let mut facet_edges: HashSet<[u32; 2]> = by_edge
             .iter()
             .filter(|(_, ts)| ts.len() == 1)
             .map(|(e, _)| *e)

@@ -213,8 +213,8 @@ impl FlatFolded {
     }
 
     /// Checks a given order of stacked triangles, `(f, g, s)` as in
-    /// [`FlatFolded::face_orders`] (a simulated fold's end, read by
-    /// [`crate::metrics::layer_order`]-like means), against the creases and
+    /// [`FlatFolded::face_orders`] (the layers of a simulated fold, as
+    /// [`crate::metrics::layer_order`] reads them), against the creases and
     /// the conditions. Pairs of triangles that do not overlap in the flat
     /// fold are left out.
     pub fn check(&self, orders: impl IntoIterator<Item = (u32, u32, i8)>) -> LayerCheck {
