@@ -1,11 +1,11 @@
 //! `pleat check`: validate files without simulating; `ok` and a summary per
 //! good file, every error of a bad one, non-zero exit if any is bad.
 
-use pleat::fold_steps::sheet_step_angles;
+use pleat::fold_steps::{sheet_step_angles, step_pattern};
 use pleat::mesh::obj::load_obj;
 use pleat::origami::{
-    check_flat_foldability, load_pattern_with_warnings, parse_pattern_steps, FlatFolded, Sheet,
-    SheetOptions,
+    check_flat_foldability, load_pattern_with_warnings, parse_pattern_steps, CreasePattern,
+    FlatFolded, Sheet, SheetOptions,
 };
 use pleat::scene::Scene;
 use std::path::{Path, PathBuf};
@@ -107,6 +107,7 @@ fn pattern_summary(path: &Path, folded_out: Option<&Path>) -> Result<String, Str
     );
     if !steps.is_empty() {
         line.push_str(&format!(", folded in {} steps", steps.len()));
+        line.push_str(&steps_with_an_order(&pattern, &steps));
     }
     let flat = check_flat_foldability(&pattern)
         .map_err(|e| e.with_file(path.display().to_string()).to_string())?;
@@ -152,4 +153,38 @@ fn pattern_summary(path: &Path, folded_out: Option<&Path>) -> Result<String, Str
         line.push_str(&format!("; warning: {w}"));
     }
     Ok(line)
+}
+
+/// Which steps of a fold in steps end in a state that folds flat with a
+/// layer order: ` (steps 1-5 fold flat with a layer order)`, or nothing
+/// when none does.
+fn steps_with_an_order(pattern: &CreasePattern, steps: &[Vec<Option<f64>>]) -> String {
+    let ordered: Vec<usize> = steps
+        .iter()
+        .enumerate()
+        .filter(|(_, angles)| {
+            Sheet::from_pattern(&step_pattern(pattern, angles), &SheetOptions::default())
+                .is_ok_and(|sheet| FlatFolded::solve(&sheet).is_ok())
+        })
+        .map(|(k, _)| k + 1)
+        .collect();
+    if ordered.is_empty() {
+        return String::new();
+    }
+    let mut runs: Vec<String> = Vec::new();
+    let mut k = 0;
+    while k < ordered.len() {
+        let start = ordered[k];
+        while k + 1 < ordered.len() && ordered[k + 1] == ordered[k] + 1 {
+            k += 1;
+        }
+        runs.push(if ordered[k] == start {
+            start.to_string()
+        } else {
+            format!("{start}-{}", ordered[k])
+        });
+        k += 1;
+    }
+    let word = if ordered.len() == 1 { "step" } else { "steps" };
+    format!(" ({word} {} fold flat with a layer order)", runs.join(", "))
 }

@@ -371,6 +371,11 @@ fn a_multi_frame_fold_file_folds_step_after_step() {
     assert_ne!(frames[0]["vertices_coords"], frames[2]["vertices_coords"]);
     let (ok, text) = pleat(&["check", crane.to_str().unwrap()]);
     assert!(ok && text.contains("folded in 6 steps"), "{text}");
+    // Every step but the crane's (wings at 90 degrees) folds flat.
+    assert!(
+        text.contains("(steps 1-5 fold flat with a layer order)"),
+        "{text}"
+    );
     // --progress is a single fold's: refused for a fold in steps.
     let (ok, text) = pleat(&["fold", crane.to_str().unwrap(), "--progress", "0.5"]);
     assert!(!ok && text.contains("--progress does not apply"), "{text}");

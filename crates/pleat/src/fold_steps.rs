@@ -175,11 +175,7 @@ pub fn sheet_step_angles(
                     ),
                 ));
             }
-            let mut at_step = pattern.clone();
-            for (edge, &angle) in at_step.edges.iter_mut().zip(angles) {
-                step_edge(edge, angle);
-            }
-            let stepped = Sheet::from_pattern(&at_step, options)?;
+            let stepped = Sheet::from_pattern(&step_pattern(pattern, angles), options)?;
             let same = stepped.hinges.len() == sheet.hinges.len()
                 && stepped
                     .hinges
@@ -195,6 +191,19 @@ pub fn sheet_step_angles(
             Ok(stepped.hinges.iter().map(full_angle).collect())
         })
         .collect()
+}
+
+/// `pattern` as a step that gives its edges `angles` (degrees, valley
+/// positive, one per edge) leaves it: each crease and flat line folded the
+/// way its angle says ([`step_edge`]). Its sheet's hinges carry the step's
+/// targets, and its flat-folded state ([`crate::origami::FlatFolded`]) is
+/// the step's, where the step folds flat.
+pub fn step_pattern(pattern: &CreasePattern, angles: &[Option<f64>]) -> CreasePattern {
+    let mut at_step = pattern.clone();
+    for (edge, &angle) in at_step.edges.iter_mut().zip(angles) {
+        step_edge(edge, angle);
+    }
+    at_step
 }
 
 /// `edge` as a step that gives it `angle` (degrees, valley positive)

@@ -309,7 +309,7 @@ fn a_step_with_its_own_assignments_turns_a_crease_over() {
 /// targets.
 #[test]
 fn the_crane_in_steps_is_a_sequence_of_flat_folds_and_its_bases_fold_clean() {
-    use pleat::fold_steps::{sheet_step_angles, FoldSteps};
+    use pleat::fold_steps::{sheet_step_angles, step_pattern, FoldSteps};
     use pleat::folding::{
         paper_model, paper_simulation_on, paper_solver_settings_with_contact, FoldMetrics,
         FoldRamp, PAPER_THICKNESS,
@@ -324,23 +324,7 @@ fn the_crane_in_steps_is_a_sequence_of_flat_folds_and_its_bases_fold_clean() {
     let steps = parse_fold_frames(&text, &pattern).unwrap();
     assert_eq!(steps.len(), 6);
     for (k, angles) in steps.iter().enumerate() {
-        let mut state = pattern.clone();
-        for (edge, angle) in state.edges.iter_mut().zip(angles) {
-            if matches!(
-                edge.assignment,
-                Assignment::Mountain | Assignment::Valley | Assignment::Flat
-            ) {
-                let a = angle.unwrap_or(0.0);
-                edge.assignment = if a > 0.0 {
-                    Assignment::Valley
-                } else if a < 0.0 {
-                    Assignment::Mountain
-                } else {
-                    Assignment::Flat
-                };
-                edge.fold_angle = Some(a);
-            }
-        }
+        let state = step_pattern(&pattern, angles);
         let sheet = Sheet::from_pattern(&state, &SheetOptions::default()).unwrap();
         let solved = FlatFolded::solve(&sheet);
         assert_eq!(solved.is_ok(), k < 5, "step {}: {:?}", k + 1, solved.err());
