@@ -176,16 +176,19 @@ impl FoldedGeometry {
             })
             .collect();
         let creases = adjacency
-            .creases
+            .links
             .iter()
-            .map(|c| {
+            .filter_map(|c| {
+                let Fold::Crease { valley } = c.fold else {
+                    return None;
+                };
                 let m = &motion[facet_of[c.triangles[0]] as usize];
-                FoldedCrease {
+                Some(FoldedCrease {
                     facets: c.triangles.map(|t| facet_of[t]),
                     ends: c.ends.map(|p| m.apply(flat[p as usize])),
                     inside: m.apply(flat[c.opposite as usize]),
-                    valley: c.valley,
-                }
+                    valley,
+                })
             })
             .collect();
         Ok(FoldedGeometry {
@@ -229,20 +232,11 @@ struct Link {
     fold: Fold,
 }
 
-/// A crease that folds, by triangle.
-struct CreaseLink {
-    triangles: [usize; 2],
-    ends: [u32; 2],
-    opposite: u32,
-    valley: bool,
-}
-
 /// Which triangles meet across which hinges.
 struct Adjacency {
     /// Per triangle, its links (indices into `links`).
     around: Vec<Vec<usize>>,
     links: Vec<Link>,
-    creases: Vec<CreaseLink>,
     /// Edges that are creases or the paper's edge.
     facet_edges: HashSet<[u32; 2]>,
 }
@@ -260,7 +254,6 @@ impl Adjacency {
         }
         let mut around = vec![Vec::new(); sheet.triangles.len()];
         let mut links = Vec::new();
-        let mut creases = Vec::new();
         let mut facet_edges: HashSet<[u32; 2]> = by_edge
             .iter()
             .filter(|(_, ts)| ts.len() == 1)
@@ -280,14 +273,8 @@ impl Adjacency {
             let triangles = [ts[first], ts[1 - first]];
             let mid = (flat[hinge.v[0] as usize] + flat[hinge.v[1] as usize]) * 0.5;
             let fold = fold_of(hinge, mid)?;
-            if let Fold::Crease { valley } = fold {
+            if let Fold::Crease { .. } = fold {
                 facet_edges.insert(key);
-                creases.push(CreaseLink {
-                    triangles,
-                    ends: [hinge.v[0], hinge.v[1]],
-                    opposite: hinge.v[2],
-                    valley,
-                });
             }
             let l = links.len();
             around[triangles[0]].push(l);
@@ -302,7 +289,6 @@ impl Adjacency {
         Ok(Adjacency {
             around,
             links,
-            creases,
             facet_edges,
         })
     }
