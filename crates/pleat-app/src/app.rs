@@ -131,7 +131,10 @@ impl PleatApp {
             None => Ok("no scene was open".into()),
         };
         old.probe.device_lost = Some(match resumed {
-            Ok(how) => format!("{lost}; recovered: {how}"),
+            Ok(how) => {
+                old.forget_halt_by_lost_device();
+                format!("{lost}; recovered: {how}")
+            }
             Err(e) => {
                 old.session = None;
                 format!("{lost}; the scene could not be built again: {e}")
@@ -417,6 +420,19 @@ impl PleatApp {
         }
         self.probe.paused = !self.playing;
     }
+
+    /// Plays again a run that the instability check paused before its
+    /// device was lost: the read that failed as the device went leaves
+    /// NaN, which can be judged before the loss is known. The run goes on
+    /// from the last finite state read back, and is paused anew if that
+    /// goes unstable.
+    fn forget_halt_by_lost_device(&mut self) {
+        if self.halted.take().is_some() {
+            self.playing = true;
+            self.probe.instability = None;
+        }
+        self.probe.paused = !self.playing;
+    }
 }
 
 /// A context for the GPU backend on eframe's device, if it has compute
@@ -584,5 +600,26 @@ impl PleatApp {
         if dismissed {
             self.probe.last_error = None;
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_halt_seen_as_the_device_went_is_forgotten_but_a_pause_by_hand_is_kept() {
+        let mut app = PleatApp::bare(None);
+        app.probe.instability = Some("the simulation went unstable (NaN) at 0.12 s".into());
+        app.halt_if_unstable();
+        assert!(app.probe.paused);
+        app.forget_halt_by_lost_device();
+        assert!(app.playing && !app.probe.paused);
+        assert_eq!(app.probe.instability, None);
+
+        let mut app = PleatApp::bare(None);
+        app.playing = false;
+        app.forget_halt_by_lost_device();
+        assert!(!app.playing && app.probe.paused, "the user's pause stays");
     }
 }
