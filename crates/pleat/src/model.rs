@@ -7,6 +7,7 @@ use crate::mesh::{lumped_masses, Mesh, Topology};
 use crate::motion::Motion;
 use crate::paper::Paper;
 use glam::Vec3;
+use rayon::prelude::*;
 use std::ops::Range;
 
 /// A particle held by an attachment: exactly (compliance 0) or softly.
@@ -148,10 +149,12 @@ impl Model {
         ));
         self.triangles
             .extend(mesh.triangles.iter().map(|t| t.map(|i| i + offset)));
-        self.edges.extend(topology.edges.iter().map(|e| RestEdge {
-            v: e.v.map(|i| i + offset),
-            rest_length: mesh.positions[e.v[0] as usize].distance(mesh.positions[e.v[1] as usize]),
-        }));
+        self.edges
+            .par_extend(topology.edges.par_iter().map(|e| RestEdge {
+                v: e.v.map(|i| i + offset),
+                rest_length:
+                    mesh.positions[e.v[0] as usize].distance(mesh.positions[e.v[1] as usize]),
+            }));
         self.rest.extend_from_slice(&mesh.positions);
         let stiffness_weights = gradient_weights(&mesh, material.stiffness_gradient, pins);
         self.cloths.push(ClothPart {

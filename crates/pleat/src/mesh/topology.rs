@@ -1,7 +1,7 @@
 //! Mesh topology: unique edges, adjacent triangle pairs and the boundary.
 
 use super::Mesh;
-use rayon::slice::ParallelSliceMut;
+use rayon::prelude::*;
 
 /// An edge with its (one or two) incident triangles' opposite vertices.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -54,8 +54,8 @@ impl Topology {
         // allocation per edge: a million-vertex mesh has three million.
         let mut sides: Vec<([u32; 2], Incidence)> = mesh
             .triangles
-            .iter()
-            .flat_map(|&[a, b, c]| {
+            .par_iter()
+            .flat_map_iter(|&[a, b, c]| {
                 [(a, b, c), (b, c, a), (c, a, b)].map(|(p, q, opposite)| {
                     let side = Incidence {
                         opposite,

@@ -1,6 +1,7 @@
 //! Greedy graph colouring of constraints: two constraints that move a common
 //! particle never get the same colour.
 
+use rayon::prelude::*;
 use std::ops::Range;
 
 /// Colours beyond this many go to one last colour solved serially.
@@ -10,7 +11,8 @@ const MAX_PARALLEL_COLORS: u32 = 128;
 /// particles has yet, and returns them sorted by colour with the colour ranges.
 /// Constraints that find no free colour among the first 128 go to an overflow
 /// colour, split into single-item ranges so that they are solved one at a time.
-pub fn greedy_colors<C>(
+/// The items are copied once, in parallel, into their sorted places.
+pub fn greedy_colors<C: Copy + Send + Sync>(
     items: Vec<C>,
     particle_count: usize,
     particles: impl Fn(&C) -> &[u32],
@@ -30,8 +32,7 @@ pub fn greedy_colors<C>(
     }
     let order = by_color(&color_of);
     let ranges = color_ranges(&order, &color_of);
-    let mut slots: Vec<Option<C>> = items.into_iter().map(Some).collect();
-    let sorted = order.iter().filter_map(|&i| slots[i].take()).collect();
+    let sorted = order.par_iter().map(|&i| items[i]).collect();
     (sorted, ranges)
 }
 

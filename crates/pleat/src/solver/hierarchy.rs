@@ -213,10 +213,36 @@ pub(super) fn strain_scale(cloth: &ClothPart) -> f32 {
     1.0 + cloth.material.max_strain.unwrap_or(0.0)
 }
 
-/// A level's particles (global indices) and edges (local indices, limit).
+/// A level's particles (global indices) and edges (local indices, limit),
+/// each particle's edges a row of one list (a million-particle cloth's
+/// levels would otherwise allocate a list per particle).
 struct Graph {
     particles: Vec<u32>,
-    edges: Vec<Vec<(usize, f32)>>,
+    /// Where each particle's row of `edges` starts, then where the last ends.
+    start: Vec<usize>,
+    edges: Vec<(usize, f32)>,
+}
+
+impl Graph {
+    /// The edges of particle `i` of the level.
+    fn row(&self, i: usize) -> &[(usize, f32)] {
+        &self.edges[self.start[i]..self.start[i + 1]]
+    }
+
+    /// The graph of `particles` whose rows, of `lengths` edges in turn, lie
+    /// end to end in `edges`.
+    fn from_rows(particles: Vec<u32>, lengths: &[usize], edges: Vec<(usize, f32)>) -> Self {
+        let mut start = Vec::with_capacity(lengths.len() + 1);
+        start.push(0);
+        for &n in lengths {
+            start.push(start.last().expect("a start") + n);
+        }
+        Graph {
+            particles,
+            start,
+            edges,
+        }
+    }
 }
 
 /// The levels above one cloth, finest first.
@@ -273,20 +299,30 @@ fn stretch_graph(cloth: &ClothPart, rest: &[Vec3]) -> Graph {
     let range = cloth.particles();
     let scale = strain_scale(cloth);
     let shear = holds_its_shear(cloth);
-    let mut edges = vec![Vec::new(); range.len()];
-    for e in &cloth.topology.edges {
-        if !shear && cloth.mesh.is_grid_diagonal(e.v[0], e.v[1]) {
-            continue;
-        }
-        let [a, b] = e.v.map(|v| v as usize);
+    let kept: Vec<[usize; 2]> = cloth
+        .topology
+        .edges
+        .iter()
+        .filter(|e| shear || !cloth.mesh.is_grid_diagonal(e.v[0], e.v[1]))
+        .map(|e| e.v.map(|v| v as usize))
+        .collect();
+    let mut lengths = vec![0; range.len()];
+    for &[a, b] in &kept {
+        lengths[a] += 1;
+        lengths[b] += 1;
+    }
+    let particles = range.clone().map(|i| i as u32).collect();
+    let mut graph = Graph::from_rows(particles, &lengths, vec![(0, 0.0); 2 * kept.len()]);
+    // Each row in the order of the cloth's edges.
+    let mut next = graph.start.clone();
+    for [a, b] in kept {
         let length = scale * rest[range.start + a].distance(rest[range.start + b]);
-        edges[a].push((b, length));
-        edges[b].push((a, length));
+        graph.edges[next[a]] = (b, length);
+        graph.edges[next[b]] = (a, length);
+        next[a] += 1;
+        next[b] += 1;
     }
-    Graph {
-        particles: range.map(|i| i as u32).collect(),
-        edges,
-    }
+    graph
 }
 
 /// A maximal independent set of the level, pins first, then in index order.
@@ -298,7 +334,7 @@ fn independent_set(graph: &Graph, inv_mass: &[f32]) -> Vec<bool> {
         .chain((0..n).filter(|&i| !pinned(i)));
     let mut coarse = vec![false; n];
     for i in order {
-        if !graph.edges[i].iter().any(|&(j, _)| coarse[j]) {
+        if !graph.row(i).iter().any(|&(j, _)| coarse[j]) {
             coarse[i] = true;
         }
     }
@@ -309,13 +345,11 @@ fn independent_set(graph: &Graph, inv_mass: &[f32]) -> Vec<bool> {
 /// nearest coarse neighbours (weights inversely as the edges' limits), in
 /// the level's order (each particle is found on its own, in parallel).
 fn prolongation(graph: &Graph, coarse: &[bool], inv_mass: &[f32]) -> Vec<Prolongation> {
-    graph
-        .edges
-        .par_iter()
-        .enumerate()
+    (0..graph.particles.len())
+        .into_par_iter()
         .with_min_len(MIN_TASK)
-        .filter_map(|(i, edges)| {
-            let particle = graph.particles[i];
+        .filter_map(|i| {
+            let (particle, edges) = (graph.particles[i], graph.row(i));
             if coarse[i] || inv_mass[particle as usize] == 0.0 {
                 return None;
             }
@@ -363,55 +397,87 @@ fn coarse_graph(graph: &Graph, coarse: &[bool], rest: Option<(&[Vec3], f32)>) ->
         .len()
         .div_ceil(4 * rayon::current_num_threads())
         .max(MIN_TASK);
-    let edges = of_level
+    let chunks: Vec<Rows> = of_level
         .par_chunks(chunk)
-        .flat_map_iter(|chunk| {
-            let mut best = vec![f32::INFINITY; coarse.len()];
-            let mut touched = Vec::new();
-            let rows: Vec<Vec<(usize, f32)>> = chunk
-                .iter()
-                .map(|&i| {
-                    shortest_paths(graph, i, PATH_EDGES, (&mut best, &mut touched));
-                    let mut row = Vec::new();
-                    for &j in &touched {
-                        if j != i && coarse[j] {
-                            let limit = match rest {
-                                Some((rest, scale)) => {
-                                    let [a, b] = [i, j].map(|k| rest[graph.particles[k] as usize]);
-                                    scale * a.distance(b)
-                                }
-                                None => best[j],
-                            };
-                            row.push((index[j], limit));
-                        }
-                        best[j] = f32::INFINITY;
+        .map(|chunk| {
+            let mut scratch = PathScratch::new(coarse.len());
+            let mut rows = Rows::default();
+            for &i in chunk {
+                shortest_paths(graph, i, PATH_EDGES, &mut scratch);
+                let (lengths, edges) = (&mut rows.lengths, &mut rows.edges);
+                let first = edges.len();
+                let PathScratch { best, touched, .. } = &mut scratch;
+                for &j in touched.iter() {
+                    if j != i && coarse[j] {
+                        let limit = match rest {
+                            Some((rest, scale)) => {
+                                let [a, b] = [i, j].map(|k| rest[graph.particles[k] as usize]);
+                                scale * a.distance(b)
+                            }
+                            None => best[j],
+                        };
+                        edges.push((index[j], limit));
                     }
-                    touched.clear();
-                    row.sort_by_key(|&(j, _)| j);
-                    row
-                })
-                .collect();
+                    best[j] = f32::INFINITY;
+                }
+                touched.clear();
+                edges[first..].sort_by_key(|&(j, _)| j);
+                lengths.push(edges.len() - first);
+            }
             rows
         })
         .collect();
-    Graph { particles, edges }
+    let lengths: Vec<usize> = chunks.iter().flat_map(|r| &r.lengths).copied().collect();
+    let edges = chunks.into_iter().flat_map(|r| r.edges).collect();
+    Graph::from_rows(particles, &lengths, edges)
+}
+
+/// Rows of a graph's edges, of `lengths` edges in turn, end to end.
+#[derive(Default)]
+struct Rows {
+    lengths: Vec<usize>,
+    edges: Vec<(usize, f32)>,
+}
+
+/// What [`shortest_paths`] works in, kept from one search to the next:
+/// the best limit found to each particle of the level (infinite where
+/// none), the particles reached, and the two frontiers of its rounds.
+struct PathScratch {
+    best: Vec<f32>,
+    touched: Vec<usize>,
+    frontier: Vec<(usize, f32)>,
+    next: Vec<(usize, f32)>,
+}
+
+impl PathScratch {
+    fn new(particles: usize) -> Self {
+        PathScratch {
+            best: vec![f32::INFINITY; particles],
+            touched: Vec::new(),
+            frontier: Vec::new(),
+            next: Vec::new(),
+        }
+    }
 }
 
 /// The shortest path limits from `from` over at most `hops` edges
-/// (Bellman-Ford rounds), into `best`; the nodes reached into `touched`.
-fn shortest_paths(
-    graph: &Graph,
-    from: usize,
-    hops: usize,
-    (best, touched): (&mut [f32], &mut Vec<usize>),
-) {
+/// (Bellman-Ford rounds), into `scratch.best`; the nodes reached into
+/// `scratch.touched`.
+fn shortest_paths(graph: &Graph, from: usize, hops: usize, scratch: &mut PathScratch) {
+    let PathScratch {
+        best,
+        touched,
+        frontier,
+        next,
+    } = scratch;
     best[from] = 0.0;
     touched.push(from);
-    let mut frontier = vec![(from, 0.0f32)];
+    frontier.clear();
+    frontier.push((from, 0.0));
     for _ in 0..hops {
-        let mut next = Vec::new();
-        for &(i, d) in &frontier {
-            for &(j, limit) in &graph.edges[i] {
+        next.clear();
+        for &(i, d) in frontier.iter() {
+            for &(j, limit) in graph.row(i) {
                 let via = d + limit;
                 if via < best[j] {
                     if best[j] == f32::INFINITY {
@@ -422,7 +488,7 @@ fn shortest_paths(
                 }
             }
         }
-        frontier = next;
+        std::mem::swap(frontier, next);
     }
 }
 
@@ -430,8 +496,8 @@ fn shortest_paths(
 /// `inv_mass` gives the particles.
 fn limits_of(graph: &Graph, inv_mass: impl Fn(u32) -> f32, slot: u32) -> Vec<LongRangeLimit> {
     let mut limits = Vec::new();
-    for (i, edges) in graph.edges.iter().enumerate() {
-        for &(j, max_length) in edges.iter().filter(|&&(j, _)| j > i) {
+    for i in 0..graph.particles.len() {
+        for &(j, max_length) in graph.row(i).iter().filter(|&&(j, _)| j > i) {
             let v = [graph.particles[i], graph.particles[j]];
             limits.push(LongRangeLimit {
                 v,

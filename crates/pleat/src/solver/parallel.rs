@@ -66,7 +66,7 @@ impl<C> ColoredConstraints<C> {
     }
 }
 
-impl<C: Constraint> ColoredConstraints<C> {
+impl<C: Constraint + Copy> ColoredConstraints<C> {
     /// Colours `items` greedily and sorts them by colour.
     pub fn new(items: Vec<C>, particle_count: usize) -> Self {
         assert!(

@@ -209,8 +209,8 @@ impl XpbdConstraints {
                                     None => Either::Right(d),
                                 }
                             });
-                        isometric.extend(flat);
-                        bending.extend(curved);
+                        append(&mut isometric, flat);
+                        append(&mut bending, curved);
                     }
                     BendingModel::SkipOne => {
                         distance.extend(skip_one_constraints(cloth, index, &model.rest))
@@ -540,6 +540,16 @@ fn dihedral_constraints<'a>(
             slot: Compliances::slot(index, ComplianceKind::Bend),
             ..DihedralBending::at_rest(pair.v.map(|i| cloth.global(i)), rest, 1.0)
         })
+}
+
+/// `items` after those of `all`, moved without a copy where `all` is empty
+/// (a single cloth's hundreds of megabytes of bending constraints).
+fn append<C>(all: &mut Vec<C>, mut items: Vec<C>) {
+    if all.is_empty() {
+        *all = items;
+    } else {
+        all.append(&mut items);
+    }
 }
 
 /// The isometric form of a dihedral constraint whose pair is flat at rest.
