@@ -95,28 +95,6 @@ fn the_miura_ori_crosses_itself_without_contact_and_not_with_it() {
     );
 }
 
-/// Paper a fifth as thick as the default (0.1 mm on a 20 cm sheet scaled to
-/// 1 m is 0.5 mm; this is 0.1 mm on it): its layers meet within a substep
-/// as the creases close, and the contacts must still keep them apart (the
-/// map fold crossed itself 26 times, the waterbomb tessellation 6, with
-/// three Jacobi iterations a substep).
-#[test]
-fn thin_paper_keeps_its_stacked_layers_apart() {
-    let library = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../patterns/origami-simulator");
-    let patterns = [
-        (
-            "mapfold.svg",
-            load_pattern(library.join("mapfold.svg")).unwrap(),
-        ),
-        ("waterbomb_tess.cp", shared("waterbomb_tess.cp")),
-    ];
-    for (name, pattern) in patterns {
-        let (sim, crossings) = fold(&pattern, 0.2 * PAPER_THICKNESS);
-        assert!(!sim.particles.has_non_finite(), "{name}: NaN");
-        assert_eq!(crossings, 0, "{name}: self-intersections");
-    }
-}
-
 /// The layer order of a flat fold follows its creases: across every crease
 /// folded flat (Origami Simulator's bird base leaves some at 90 degrees)
 /// the two faces are stacked, each on the side the other's normal points

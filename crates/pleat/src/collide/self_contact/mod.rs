@@ -51,16 +51,6 @@ use web_time::Instant;
 
 /// Jacobi iterations per substep.
 const ITERATIONS: usize = 3;
-/// Most Jacobi iterations per substep of paper: past [`ITERATIONS`], the
-/// solve goes on while a contact still moves a particle by more than
-/// [`SETTLED_CORRECTION`] thicknesses. Thin paper's stacked layers that
-/// meet within a substep as its creases close (0.1 mm on a 1 m sheet, a
-/// fifth of the default) were left crossed after three iterations, where a
-/// thick stack or a resting one settles in three. Cloth keeps three.
-const PAPER_MAX_ITERATIONS: usize = 12;
-/// The largest correction (in thicknesses) of a particle after which the
-/// solve stops once it has had its [`ITERATIONS`].
-const SETTLED_CORRECTION: f32 = 0.3;
 /// Jacobi over-relaxation of the gathered corrections.
 const RELAXATION: f32 = 1.5;
 /// Smallest rayon task, in contacts.
@@ -124,8 +114,6 @@ pub struct SelfContacts {
     /// Reach of the kept candidates beyond the thickness (m); zero builds
     /// them every substep.
     margin: f32,
-    /// Most Jacobi iterations a substep ([`PAPER_MAX_ITERATIONS`] for paper).
-    max_iterations: usize,
     /// Positions at the last build; empty before the first.
     x_build: Vec<Vec3>,
     contacts: Vec<Contact>,
@@ -155,11 +143,6 @@ impl SelfContacts {
                 PAPER_MARGIN * settings.thickness
             } else {
                 0.0
-            },
-            max_iterations: if all_paper {
-                PAPER_MAX_ITERATIONS
-            } else {
-                ITERATIONS
             },
             x_build: Vec::new(),
             patches: Patches::new(&rest),
@@ -217,14 +200,10 @@ impl SelfContacts {
             broad_phase,
             ..SelfContactStats::default()
         };
-        for iteration in 1..=self.max_iterations {
-            let deepest;
-            (stats.active, deepest) = self.solve(x, x_prev, inv_mass, &mut stats.solve);
+        for _ in 0..ITERATIONS {
+            stats.active = self.solve(x, x_prev, inv_mass, &mut stats.solve);
             // Nothing moved: the next iterations would find the same.
-            if stats.active == 0
-                || (iteration >= ITERATIONS
-                    && deepest <= SETTLED_CORRECTION * self.settings.thickness)
-            {
+            if stats.active == 0 {
                 break;
             }
         }
@@ -250,30 +229,28 @@ impl SelfContacts {
     }
 
     /// One Jacobi iteration over the candidates; returns the active count
-    /// and the largest correction of a particle (before the averaging), and
-    /// adds the time spent applying the corrections to `solve`.
+    /// and adds the time spent applying their corrections to `solve`.
     fn solve(
         &mut self,
         x: &mut [Vec3],
         x_prev: &[Vec3],
         inv_mass: &[f32],
         solve: &mut Duration,
-    ) -> (usize, f32) {
+    ) -> usize {
         let s = self.settings;
         let xs: &[Vec3] = x;
-        let (found, deepest) = (&self.contacts, &mut self.delta, &mut self.active)
+        let found: usize = (&self.contacts, &mut self.delta, &mut self.active)
             .into_par_iter()
             .with_min_len(MIN_TASK)
             .map(|(c, delta, active)| {
                 let r = c.correction(xs, x_prev, inv_mass, &s);
                 *active = r.is_some();
                 *delta = r.unwrap_or_default();
-                let longest = delta.iter().map(|d| d.length()).fold(0.0, f32::max);
-                (usize::from(*active), longest)
+                usize::from(*active)
             })
-            .reduce(|| (0, 0.0), |a, b| (a.0 + b.0, a.1.max(b.1)));
+            .sum();
         if found == 0 {
-            return (0, 0.0);
+            return 0;
         }
         let start = Instant::now();
         self.acting.clear();
@@ -281,7 +258,7 @@ impl SelfContacts {
             .extend((0..self.contacts.len() as u32).filter(|&k| self.active[k as usize]));
         self.gather(x);
         *solve += start.elapsed();
-        (found, deepest)
+        found
     }
 
     /// Moves the particles by the acting contacts' corrections, each
