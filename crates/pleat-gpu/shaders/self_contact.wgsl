@@ -1,6 +1,7 @@
 // Self-collision and cloth-cloth contact: the candidate pairs of the last
 // build (contact_grid.wgsl) as particle-particle and vertex-triangle
-// proximity contacts within the contact thickness, solved as Jacobi: each
+// proximity contacts within the contact thickness, solved in
+// CONTACT_ITERATIONS Jacobi iterations a substep (the CPU backend's): each
 // contact's corrections summed per particle in fixed point with integer
 // atomics (WGSL has no float atomics; integer sums do not depend on the
 // order, so two runs are bit-identical however the candidates were
@@ -101,22 +102,32 @@ fn triangle_contact(i: u32, t: vec3<u32>) -> bool {
     return true;
 }
 
-// One candidate's contact, if its pair is within the thickness.
+// Candidate k's contact, if its pair is within the thickness; whether it
+// acted.
+fn contact(k: u32) -> bool {
+    if k >= min(atomicLoad(&candidates[FOUND]), params.contact_capacity) {
+        return false;
+    }
+    let i = atomicLoad(&candidates[HEADER + 2u * k]);
+    let other = atomicLoad(&candidates[HEADER + 2u * k + 1u]);
+    if (other & PARTICLE_PAIR) != 0u {
+        return particle_contact(i, other & ~PARTICLE_PAIR);
+    }
+    return triangle_contact(i, triangle(other));
+}
+
+// One candidate's contact: an iteration before the last.
 @compute @workgroup_size(256)
-fn contacts(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    let k = flat_index(gid, groups);
-    if k < min(atomicLoad(&candidates[FOUND]), params.contact_capacity) {
-        let i = atomicLoad(&candidates[HEADER + 2u * k]);
-        let other = atomicLoad(&candidates[HEADER + 2u * k + 1u]);
-        var act = false;
-        if (other & PARTICLE_PAIR) != 0u {
-            act = particle_contact(i, other & ~PARTICLE_PAIR);
-        } else {
-            act = triangle_contact(i, triangle(other));
-        }
-        if act {
-            atomicAdd(&acted, 1u);
-        }
+fn contacts(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    contact(flat_index(gid, groups));
+}
+
+// One candidate's contact in the substep's last iteration, counted if it
+// acted (as the CPU backend counts the contacts acting).
+@compute @workgroup_size(256)
+fn counted_contacts(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    if contact(flat_index(gid, groups)) {
+        atomicAdd(&acted, 1u);
     }
     workgroupBarrier();
     if lid == 0u {

@@ -75,8 +75,8 @@ pub struct SelfContactKernels {
     pub grid: [wgpu::ComputePipeline; 2 + BUILD_KERNELS],
     /// The indirect dispatches' counts: arm_build, arm_solve.
     pub arm: [wgpu::ComputePipeline; 2],
-    /// The solve: contacts, apply.
-    pub solve: [wgpu::ComputePipeline; 2],
+    /// The solve: contacts, the same counting those that acted, apply.
+    pub solve: [wgpu::ComputePipeline; 3],
 }
 
 /// The pipelines of the first `N` entry points of `module`, in its order.

@@ -133,7 +133,11 @@ pub const CONTACT_DISPATCH: Module = module!(
     ["arm_build", "arm_solve"]
 );
 /// Self-contacts' Jacobi solve over the candidates.
-pub const SELF_CONTACT: Module = module!("self_contact", [CONTACT_LIB], ["contacts", "apply"]);
+pub const SELF_CONTACT: Module = module!(
+    "self_contact",
+    [CONTACT_LIB],
+    ["contacts", "counted_contacts", "apply"]
+);
 
 /// The health reduction: non-finite values, energy, paper strain.
 pub const HEALTH: Module = module!("health", ["reduce_blocks", "reduce_sums"]);

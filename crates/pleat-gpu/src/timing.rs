@@ -1,6 +1,7 @@
 //! Per-stage GPU times from timestamp queries, where the adapter has them:
 //! each substep runs as six compute passes (prediction with wind and pins,
-//! constraints, the self-contacts' broad phase, narrow phase and solve,
+//! constraints, the self-contacts' broad phase, narrow phase (their
+//! Jacobi iterations but the last application of corrections) and solve,
 //! collider contacts with the velocity update),
 //! each stamped at its start and end. The stamps of a frame are resolved
 //! into a buffer and copied to a mappable one of a small pool, read back
