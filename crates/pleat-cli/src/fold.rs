@@ -197,7 +197,14 @@ pub fn fold_meshes(args: &PaperArgs) -> Result<Folded, String> {
     };
     let mut sink = StepStates::new(&paper.sim, output.as_mut(), args.output.every.max(1));
     let frame_times = with_threads(args.output.threads, || {
-        simulate(&mut paper.sim, &paper.name, frames, 1, Some(&mut sink))
+        simulate(
+            &mut paper.sim,
+            &paper.name,
+            frames,
+            1,
+            Some(&mut sink),
+            None,
+        )
     })??;
     let steps = sink.states;
     let report = paper.report(&frame_times, threads);
@@ -241,7 +248,14 @@ pub fn fold(args: &FoldArgs) -> Result<ExitCode, String> {
         let frames = frames(&paper.sim, &args.paper);
         let mut sink = StepStates::new(&paper.sim, Some(&mut pictures), every.max(1));
         let frame_times = with_threads(args.paper.output.threads, || {
-            simulate(&mut paper.sim, &paper.name, frames, 1, Some(&mut sink))
+            simulate(
+                &mut paper.sim,
+                &paper.name,
+                frames,
+                1,
+                Some(&mut sink),
+                None,
+            )
         })??;
         let steps = sink.states;
         let report = paper.report(&frame_times, threads);

@@ -95,6 +95,7 @@ pub fn render(args: &RenderArgs) -> Result<ExitCode, String> {
             (scene.frames, frame_dt),
             args.every,
             Some(&mut pictures),
+            None,
         )
     })??;
     let report = Report::new(&sim, &scene, &times, rayon_threads(args.threads)?);

@@ -51,6 +51,10 @@ pub struct Report {
     /// Where it showed: the first non-finite particle, else the fastest.
     pub unstable_particle: Option<u32>,
     pub self_intersections: usize,
+    /// Self-intersections counted at every N-th frame too (`pleat run
+    /// --check-every N`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub self_intersections_every: Option<CheckedCrossings>,
     pub collider_penetrations: usize,
     pub kinetic_energy: f32,
     /// Fold progress, largest fold-angle errors and strain of paper parts.
@@ -64,6 +68,57 @@ pub struct Report {
     /// layers checked against it (`pleat fold` only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub layer_order: Option<LayerOrderFigures>,
+}
+
+/// Self-intersections counted at every `every`-th frame of a run, not
+/// only at its end: a simulation that passes through itself and comes
+/// apart again ends clean.
+#[derive(Serialize, Clone, Debug, PartialEq, Eq)]
+pub struct CheckedCrossings {
+    pub every: u32,
+    /// The counts at frames `every`, `2 every`, ...
+    pub counts: Vec<usize>,
+}
+
+impl CheckedCrossings {
+    pub fn new(every: u32) -> Self {
+        CheckedCrossings {
+            every: every.max(1),
+            counts: Vec::new(),
+        }
+    }
+
+    /// Counts the self-intersections of `sim` (reading its state back) if
+    /// `frame` is one to check.
+    pub fn frame(&mut self, frame: u32, sim: &mut Simulation) {
+        if frame % self.every == 0 {
+            sim.sync();
+            self.counts.push(sim.metrics().self_intersections);
+        }
+    }
+
+    /// The most at a checked frame, and the first frame with that many.
+    pub fn most(&self) -> Option<(usize, u32)> {
+        let most = *self.counts.iter().max()?;
+        let first = self.counts.iter().position(|&c| c == most)?;
+        Some((most, (first as u32 + 1) * self.every))
+    }
+
+    /// One line for the terminal.
+    pub fn line(&self) -> String {
+        let checks = format!(
+            "self-intersections checked at {} frames (every {})",
+            self.counts.len(),
+            self.every
+        );
+        let crossed = self.counts.iter().filter(|&&c| c > 0).count();
+        match self.most() {
+            Some((most, frame)) if most > 0 => {
+                format!("{checks}: most {most} (frame {frame}), {crossed} frames with any")
+            }
+            _ => format!("{checks}: none"),
+        }
+    }
 }
 
 /// Milliseconds per frame over the run.
@@ -187,6 +242,7 @@ impl Report {
             unstable_kind: verdict.map(|(_, kind, _)| kind.name()),
             unstable_particle: verdict.and_then(|(_, _, particle)| particle),
             self_intersections: m.self_intersections,
+            self_intersections_every: None,
             collider_penetrations: m.collider_penetrations,
             kinetic_energy: m.kinetic_energy,
             origami: FoldMetrics::measure(sim),

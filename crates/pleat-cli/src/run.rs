@@ -1,7 +1,7 @@
 //! `pleat run`: simulate a scene, export its frames and write report.json.
 
 use crate::output::{FrameSink, Output, OutputArgs};
-use crate::report::Report;
+use crate::report::{CheckedCrossings, Report};
 use crate::{build_on, check_backend, with_threads};
 use indicatif::{ProgressBar, ProgressStyle};
 use pleat::scene::Scene;
@@ -28,6 +28,10 @@ pub struct RunArgs {
     /// Print per-stage timings on stderr.
     #[arg(long)]
     pub profile: bool,
+    /// Count self-intersections at every N-th frame too, not only at the
+    /// last (report.json's `self_intersections_every`).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    pub check_every: Option<u32>,
 }
 
 pub fn run(args: &RunArgs) -> Result<ExitCode, String> {
@@ -42,18 +46,21 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, String> {
         scene.frames = frames;
     }
     let mut sim = build_on(&scene, (&base_dir, &file), backend)?;
+    let mut checked = args.check_every.map(CheckedCrossings::new);
     let (frame_times, output) = run_frames(
         &mut sim,
         &scene.name,
         (scene.frames, scene.frame_dt()),
         &args.output,
+        checked.as_mut(),
     )?;
-    let report = Report::new(
+    let mut report = Report::new(
         &sim,
         &scene,
         &frame_times,
         rayon_threads(args.output.threads)?,
     );
+    report.self_intersections_every = checked;
     if args.profile {
         eprintln!("{}", report.profile_text());
     }
@@ -66,13 +73,15 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, String> {
 }
 
 /// Steps `sim` through `frames` frames of `frame_dt` on the threads of
-/// `args`, exporting as it asks; returns each frame's time and the output
-/// still to be finished.
+/// `args`, exporting as it asks and counting self-intersections where
+/// `checked` asks; returns each frame's time and the output still to be
+/// finished.
 pub fn run_frames(
     sim: &mut Simulation,
     name: &str,
     frames: (u32, f32),
     args: &OutputArgs,
+    checked: Option<&mut CheckedCrossings>,
 ) -> Result<(Vec<Duration>, Option<Output>), String> {
     let mut output = match &args.out {
         Some(dir) => Some(Output::create(dir, args.format, sim, frames.1)?),
@@ -86,6 +95,7 @@ pub fn run_frames(
             frames,
             every,
             output.as_mut().map(|o| o as &mut dyn FrameSink),
+            checked,
         )
     })??;
     Ok((times, output))
@@ -103,6 +113,9 @@ pub fn finish(report: &Report, output: Option<Output>, args: &OutputArgs) -> Res
 /// Prints the report's summary line, and its fold line where there is paper.
 pub fn print_summary(report: &Report) {
     crate::print_line(format_args!("{}", report.summary_line()));
+    if let Some(checked) = &report.self_intersections_every {
+        crate::print_line(format_args!("{}", checked.line()));
+    }
     if let Some(line) = report.fold_line() {
         crate::print_line(format_args!("{line}"));
     }
@@ -145,13 +158,15 @@ pub fn load(path: Option<&Path>) -> Result<(Scene, String, PathBuf), pleat::scen
 }
 
 /// Steps through `frames` frames of `frame_dt` seconds, handing frame 0 and
-/// every `every`-th to `output`; returns each frame's time.
+/// every `every`-th to `output` and each frame to `checked` (not timed);
+/// returns each frame's time.
 pub fn simulate(
     sim: &mut Simulation,
     name: &str,
     (frames, frame_dt): (u32, f32),
     every: u32,
     mut output: Option<&mut dyn FrameSink>,
+    mut checked: Option<&mut CheckedCrossings>,
 ) -> Result<Vec<Duration>, String> {
     let bar = ProgressBar::new(frames as u64).with_style(
         ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} frames, {per_sec}, eta {eta}")
@@ -179,6 +194,9 @@ pub fn simulate(
         }
         if let (Some(out), true) = (output.as_deref_mut(), export) {
             out.frame(frame, sim)?;
+        }
+        if let Some(checked) = checked.as_deref_mut() {
+            checked.frame(frame, sim);
         }
         bar.inc(1);
     }

@@ -131,6 +131,48 @@ fn one_and_two_threads_give_identical_results() {
 }
 
 #[test]
+fn check_every_counts_self_intersections_along_the_run() {
+    // Two cloths placed through each other, weightless, self-collision
+    // off: they cross at every frame.
+    let scene = r#"{ "frames": 12, "gravity": [0, 0, 0],
+        "cloths": [
+          { "mesh": { "grid": { "resolution": [8, 8], "size": [0.4, 0.4], "orientation": "vertical", "center": [0, 0, 0] } } },
+          { "mesh": { "grid": { "resolution": [8, 8], "size": [0.4, 0.4], "center": [0, 0, 0] } } } ] }"#;
+    let dir = out_dir("check_every");
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("through.json");
+    std::fs::write(&file, scene).unwrap();
+    pleat_ok(&[
+        "run",
+        file.to_str().unwrap(),
+        "--check-every",
+        "3",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    let r = report(&dir);
+    let checked = &r["self_intersections_every"];
+    assert_eq!(checked["every"], 3);
+    let counts: Vec<u64> = checked["counts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c.as_u64().unwrap())
+        .collect();
+    assert_eq!(counts.len(), 4, "frames 3, 6, 9 and 12: {counts:?}");
+    assert_eq!(counts[3], r["self_intersections"].as_u64().unwrap());
+    assert!(counts.iter().any(|&c| c > 0), "{counts:?}");
+    // Without the flag the field is left out.
+    pleat_ok(&[
+        "run",
+        file.to_str().unwrap(),
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(report(&dir).get("self_intersections_every").is_none());
+}
+
+#[test]
 fn glb_export_is_one_animated_file() {
     let dir = out_dir("glb");
     pleat_ok(&[
