@@ -88,6 +88,19 @@ pub struct Paper {
 }
 
 impl Paper {
+    /// Steps the paper through `frames` frames of their length, handing
+    /// each to `sink`, on `threads` threads; returns each frame's time.
+    fn step_all(
+        &mut self,
+        frames: (u32, f32),
+        sink: &mut (impl FrameSink + Send),
+        threads: Option<usize>,
+    ) -> Result<Vec<Duration>, String> {
+        with_threads(threads, || {
+            simulate(&mut self.sim, &self.name, frames, 1, Some(sink), None)
+        })?
+    }
+
     /// report.json's contents for the run that took `frame_times`.
     fn report(&self, frame_times: &[Duration], threads: usize) -> Report {
         Report {
@@ -196,16 +209,7 @@ pub fn fold_meshes(args: &PaperArgs) -> Result<Folded, String> {
         None => None,
     };
     let mut sink = StepStates::new(&paper.sim, output.as_mut(), args.output.every.max(1));
-    let frame_times = with_threads(args.output.threads, || {
-        simulate(
-            &mut paper.sim,
-            &paper.name,
-            frames,
-            1,
-            Some(&mut sink),
-            None,
-        )
-    })??;
+    let frame_times = paper.step_all(frames, &mut sink, args.output.threads)?;
     let steps = sink.states;
     let report = paper.report(&frame_times, threads);
     let mut written: Vec<PathBuf> = write_outputs(&report, output, &args.output)?
@@ -247,16 +251,7 @@ pub fn fold(args: &FoldArgs) -> Result<ExitCode, String> {
         let mut pictures = Pictures::create(&dir, &paper.sim, settings, FRAME_DT * every as f32)?;
         let frames = frames(&paper.sim, &args.paper);
         let mut sink = StepStates::new(&paper.sim, Some(&mut pictures), every.max(1));
-        let frame_times = with_threads(args.paper.output.threads, || {
-            simulate(
-                &mut paper.sim,
-                &paper.name,
-                frames,
-                1,
-                Some(&mut sink),
-                None,
-            )
-        })??;
+        let frame_times = paper.step_all(frames, &mut sink, args.paper.output.threads)?;
         let steps = sink.states;
         let report = paper.report(&frame_times, threads);
         crate::print_line(&paper.summary);
