@@ -29,10 +29,10 @@ pub(super) struct FrameData {
     pub(super) compliances: Vec<f32>,
 }
 
-/// Jacobi iterations over the self-contacts a substep, as on the CPU
-/// backend: with one, the averaged corrections of a particle in many
-/// contacts left the layers of a cloth folding onto itself crossed.
-const CONTACT_ITERATIONS: u32 = 3;
+/// Jacobi iterations over the self-contacts a substep, the CPU backend's:
+/// with one, the averaged corrections of a particle in many contacts left
+/// the layers of a cloth folding onto itself crossed.
+const CONTACT_ITERATIONS: u32 = pleat::collide::self_contact::ITERATIONS as u32;
 
 impl SelfContactStage {
     /// The broad phase over `particles` particles: checks whether the

@@ -49,8 +49,8 @@ use serde::{Deserialize, Serialize};
 use std::time::Duration;
 use web_time::Instant;
 
-/// Jacobi iterations per substep.
-const ITERATIONS: usize = 3;
+/// Jacobi iterations per substep, on both backends.
+pub const ITERATIONS: usize = 3;
 /// Jacobi over-relaxation of the gathered corrections.
 const RELAXATION: f32 = 1.5;
 /// Smallest rayon task, in contacts.
