@@ -1,9 +1,12 @@
 // The coarse edges of the hierarchy (pleat::solver::hierarchy), one colour
 // per dispatch: two particles of a level pulled together, by the level's
-// inverse masses, until they are no farther apart than the limit; never
-// pushed.
+// inverse masses, until they are no farther apart than the limit; pushed
+// apart only where they are closer than `floor` times their distance when
+// the hierarchy began (capped at the limit), so that its pulls never
+// squeeze the cloth (LongRangeLimit::project_within).
 
 @group(1) @binding(0) var<storage, read_write> items: array<LongRangeLimit>;
+@group(1) @binding(1) var<storage, read_write> start: array<vec4<f32>>;
 
 @compute @workgroup_size(256)
 fn solve(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
@@ -18,9 +21,14 @@ fn solve(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups)
     let d = position(c.a) - position(c.b);
     let len = length(d);
     let excess = len - c.max_length;
-    if excess > 0.0 && wa + wb > 0.0 {
+    let least = min(c.floor * distance(start[c.a].xyz, start[c.b].xyz), c.max_length);
+    var e = min(len - least, 0.0);
+    if excess > 0.0 {
+        e = excess;
+    }
+    if e != 0.0 && len > 0.0 && wa + wb > 0.0 {
         let n = d / len;
-        let s = excess / (wa + wb);
+        let s = e / (wa + wb);
         move_by(c.a, n * (-wa * s));
         move_by(c.b, n * (wb * s));
     }

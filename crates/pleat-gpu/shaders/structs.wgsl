@@ -171,6 +171,10 @@ struct LongRangeLimit {
     // The live stretch compliance that must be zero for the limit to hold;
     // NONE: always held (a strain limit).
     slot: u32,
+    // The share of the ends' distance when the hierarchy began that they
+    // keep: 1 from level 2 up on a held cloth, 0 (never pushed) on level 1
+    // and on a free cloth.
+    floor: f32,
 }
 
 // How a particle follows the level above it

@@ -145,7 +145,7 @@ fn core_constraints_match_wgsl() {
     });
     assert_mirrors!(Tether as "Tether" { particle => ["particle"], pin, max_length });
     assert_mirrors!(LongRangeLimit as "LongRangeLimit" {
-        v => ["a", "b"], max_length, inv_mass => ["wa", "wb"], slot,
+        v => ["a", "b"], max_length, inv_mass => ["wa", "wb"], slot, floor,
     });
     assert_mirrors!(Prolongation as "Prolongation" { particle, parents, weights });
 }

@@ -242,8 +242,12 @@ fn the_strain_limit_converges_on_a_long_heavy_strip_on_both_backends() {
             m.max_stretch
         );
     }
+    // The 3 m strip swings for two seconds. The coarse levels' floors (a
+    // pair pushed back to its distance when the pass began) carry the
+    // backends' different round-off further than pulls alone: 6e-6 m
+    // apart after 5 frames, 2.6e-3 m after 120 (8e-5 m without floors).
     let err = max_distance(&c, &g);
-    assert!(err < 1e-3, "GPU differs from CPU by {err} m");
+    assert!(err < 5e-3, "GPU differs from CPU by {err} m");
 }
 
 #[test]

@@ -38,7 +38,8 @@ pub(super) enum ConstraintKind {
     JacobiCorrect,
     JacobiGather,
     /// The hierarchy: the positions noted, a level's coarse edges, its
-    /// prolongation (their "lambda" buffer: the noted positions, or unused).
+    /// prolongation (their "lambda" buffer: the noted positions, which the
+    /// coarse edges read as their floors and the prolongation as its start).
     Snapshot,
     LongRange,
     Prolongate,
@@ -176,7 +177,8 @@ fn hierarchy(
         )?;
         kinds.push(ConstraintBuffers {
             items: storage(device, "coarse edges", limits),
-            lambda: unused(),
+            // The noted positions: each edge's floor.
+            lambda: start.clone(),
             extra: None,
             dispatches: table.colours(&level.limits),
             kind: ConstraintKind::LongRange,

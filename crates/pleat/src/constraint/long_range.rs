@@ -2,8 +2,9 @@
 //! position-based dynamics (Müller 2008): two particles of a coarse level
 //! may be no farther apart than the rest length of the shortest path of
 //! finer edges between them, `C = |x_a - x_b| - max_length <= 0`. It never
-//! pushes (a cloth folds and crumples freely) and, where the path bends,
-//! leaves the slack that shear needs.
+//! pushes a pair apart beyond where it was when the hierarchy's pass began
+//! (a cloth folds and crumples freely; only the pass's own squeeze is
+//! undone) and, where the path bends, leaves the slack that shear needs.
 
 use super::positions::Positions;
 use super::projection::{sealed::Sealed, Constraint, Substep};
@@ -26,6 +27,12 @@ pub struct LongRangeLimit {
     /// the limit holds while it is zero; [`ALWAYS_HELD`] for a cloth with a
     /// strain limit, whose limit always holds.
     pub slot: u32,
+    /// The share of their distance when the hierarchy's pass began that
+    /// the ends keep ([`LongRangeLimit::project_within`]): 1 on the levels
+    /// of a held cloth whose pairs lie beyond the fine sweep's reach, 0
+    /// (never pushed) on the finest and on a free cloth
+    /// ([`crate::solver::hierarchy`]).
+    pub floor: f32,
 }
 
 /// The `slot` of a limit that holds whatever the compliances.
@@ -43,14 +50,26 @@ impl LongRangeLimit {
     /// multiplier). Returns how far beyond it they were, as a strain
     /// (negative within it).
     pub fn project_limit(&self, x: &Positions) -> f32 {
+        self.project_within(x, 0.0)
+    }
+
+    /// As [`LongRangeLimit::project_limit`], and where the ends are closer
+    /// than `floor` (capped at the limit), pushes them apart to it: the
+    /// hierarchy's floor is how far apart they were when its pass began,
+    /// so that its pulls, handed down, never squeeze the cloth (a fold the
+    /// prediction brought is kept; only the pass's own compression is
+    /// undone). Returns how far beyond the limit they were, as a strain.
+    pub fn project_within(&self, x: &Positions, floor: f32) -> f32 {
         let [a, b] = self.v;
         let [wa, wb] = self.inv_mass;
         let d = x.get(a) - x.get(b);
         let len = d.length();
         let excess = len - self.max_length;
-        if excess > 0.0 && wa + wb > 0.0 {
+        let short = len - floor.min(self.max_length);
+        let c = if excess > 0.0 { excess } else { short.min(0.0) };
+        if c != 0.0 && len > 0.0 && wa + wb > 0.0 {
             let n: Vec3 = d / len;
-            let s = excess / (wa + wb);
+            let s = c / (wa + wb);
             x.add(a, n * (-wa * s));
             x.add(b, n * (wb * s));
         }
@@ -84,6 +103,7 @@ mod tests {
             max_length: 2.0,
             inv_mass,
             slot: ALWAYS_HELD,
+            floor: 0.0,
         };
         let mut x = vec![Vec3::ZERO, Vec3::X * length];
         project_once(
@@ -113,6 +133,7 @@ mod tests {
             max_length: 1.0,
             inv_mass: [1.0, 1.0],
             slot,
+            floor: 0.0,
         };
         let table = [1.0, 0.0, 1e-3];
         let step = |t: &'static [f32]| Substep {
@@ -132,5 +153,25 @@ mod tests {
     fn never_pushes() {
         assert_eq!(project(1.0, [1.0, 1.0]), vec![Vec3::ZERO, Vec3::X]);
         assert_eq!(project(2.0, [1.0, 1.0]), vec![Vec3::ZERO, Vec3::X * 2.0]);
+    }
+
+    #[test]
+    fn pushes_apart_to_its_floor_and_never_past_the_limit() {
+        let limit = LongRangeLimit {
+            v: [0, 1],
+            max_length: 2.0,
+            inv_mass: [1.0, 1.0],
+            slot: ALWAYS_HELD,
+            floor: 1.0,
+        };
+        let within = |length: f32, floor: f32| {
+            let mut x = vec![Vec3::ZERO, Vec3::X * length];
+            limit.project_within(&Positions::new(&mut x, &[1.0, 1.0], &limit.v), floor);
+            x[0].distance(x[1])
+        };
+        assert!((within(1.0, 1.5) - 1.5).abs() < 1e-6, "up to the floor");
+        assert!((within(1.0, 3.0) - 2.0).abs() < 1e-6, "the floor capped");
+        assert_eq!(within(1.0, 0.5), 1.0, "above its floor: left as it is");
+        assert!((within(3.0, 3.0) - 2.0).abs() < 1e-6, "still pulled");
     }
 }

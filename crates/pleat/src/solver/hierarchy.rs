@@ -24,10 +24,23 @@
 //! pins take momentum anyway, each particle keeps its own mass, which
 //! converges faster (max stretch 1.04 against 1.54 at 512 x 512 after 1 s).
 //!
-//! The limits are unilateral: they never push, so a cloth folds and
-//! crumples as before, and since no bending of a sheet moves two of its
+//! The limits are unilateral: they never push a pair apart beyond where it
+//! was when the pass began (nor beyond the limit; level 1's, within the
+//! fine sweep's reach, and a free cloth's never push), so a cloth folds
+//! and crumples as before, and since no bending of a sheet moves two of its
 //! points farther apart than at rest, they leave the state a converged
-//! solve reaches on an inextensible cloth as it is. Every cloth but paper
+//! solve reaches on an inextensible cloth as it is. That floor matters: a
+//! pull alone squeezes the cloth wherever it lifts one part and not the
+//! part above it, which only compression holds up (on a sheet hanging
+//! from its two top corners, the strip along the taut top edge rests on
+//! the cloth below it, whose limits to the pins pull it up). The one fine
+//! sweep of a substep moves such a squeeze an edge or two, so at 512 x 512
+//! and finer the rows pass through one another, triangles turn over in
+//! the plane and the fine sweep, pushing their compressed edges apart,
+//! stretches their neighbours (a sheet of 1024 x 1024 reached 1.45 times
+//! its edges' length after 1.5 s, 1.03 with the floor; 512 x 512: 1.11, 1.01). The
+//! floor never undoes a squeeze the prediction brought (a fold), only the
+//! pass's own. Every cloth but paper
 //! has levels; they hold while its stretch compliance is zero (read live,
 //! so a person who softens the cloth sees it stretch) or always where it
 //! has a strain limit; a compliant cloth without one stretches as its
@@ -49,6 +62,12 @@ pub const HELD_SHEAR_COMPLIANCE: f32 = 1e-4;
 
 /// Most particles of a level a finer particle takes its motion from.
 pub const MAX_PARENTS: usize = 4;
+
+/// The finest level of a held cloth whose limits keep their pairs'
+/// distances from the pass's start ([`LongRangeLimit::floor`]): level 1's
+/// pairs, two edges apart, lie within the fine sweep's reach, which
+/// carries their squeeze.
+const FLOOR_FROM_LEVEL: usize = 2;
 
 /// Most levels above a cloth's particles.
 const MAX_LEVELS: usize = 16;
@@ -172,7 +191,8 @@ impl Hierarchy {
         for level in self.levels.iter().rev() {
             level.limits.sweep(x, inv_mass, |c, v| {
                 if c.holds(step) {
-                    c.project_limit(v)
+                    let [a, b] = c.v.map(|i| start[i as usize]);
+                    c.project_within(v, c.floor * a.distance(b))
                 } else {
                     f32::NEG_INFINITY
                 }
@@ -279,9 +299,17 @@ fn cloth_levels(
                 mass[c as usize - first] += w as f64 * follower;
             }
         }
+        // A held cloth's levels keep what its squeeze needs; a free one's
+        // only pull (pushes, handed down, would not keep its momentum).
+        let floored = !free && levels.len() + 1 >= FLOOR_FROM_LEVEL;
+        let floor = if floored { 1.0 } else { 0.0 };
         let limits = match free {
-            true => limits_of(&next, |p| (1.0 / mass[p as usize - first]) as f32, slot),
-            false => limits_of(&next, |p| inv_mass[p as usize], slot),
+            true => limits_of(
+                &next,
+                |p| (1.0 / mass[p as usize - first]) as f32,
+                (slot, floor),
+            ),
+            false => limits_of(&next, |p| inv_mass[p as usize], (slot, floor)),
         };
         if limits.is_empty() {
             break;
@@ -493,8 +521,12 @@ fn shortest_paths(graph: &Graph, from: usize, hops: usize, scratch: &mut PathScr
 }
 
 /// A level's edges as limits, each pair once, with the inverse masses
-/// `inv_mass` gives the particles.
-fn limits_of(graph: &Graph, inv_mass: impl Fn(u32) -> f32, slot: u32) -> Vec<LongRangeLimit> {
+/// `inv_mass` gives the particles, the compliance slot and the floor.
+fn limits_of(
+    graph: &Graph,
+    inv_mass: impl Fn(u32) -> f32,
+    (slot, floor): (u32, f32),
+) -> Vec<LongRangeLimit> {
     let mut limits = Vec::new();
     for i in 0..graph.particles.len() {
         for &(j, max_length) in graph.row(i).iter().filter(|&&(j, _)| j > i) {
@@ -504,6 +536,7 @@ fn limits_of(graph: &Graph, inv_mass: impl Fn(u32) -> f32, slot: u32) -> Vec<Lon
                 max_length,
                 inv_mass: v.map(&inv_mass),
                 slot,
+                floor,
             });
         }
     }
