@@ -61,6 +61,12 @@ impl Aabb {
         self.min.cmple(o.max).all() && o.min.cmple(self.max).all()
     }
 
+    /// Whether the two boxes, each shrunk by `depth / 2` on every side,
+    /// still share a point.
+    pub fn overlaps_by(&self, o: &Aabb, depth: f32) -> bool {
+        (self.min + depth).cmple(o.max).all() && (o.min + depth).cmple(self.max).all()
+    }
+
     /// Whether `p` lies in the box or on its boundary.
     pub fn contains(&self, p: Vec3) -> bool {
         self.min.cmple(p).all() && p.cmple(self.max).all()

@@ -175,7 +175,7 @@ impl SelfContacts {
                 x_prev,
                 x,
                 inv_mass,
-                self.settings.thickness + self.margin,
+                (self.settings.thickness, self.margin),
                 &mut self.contacts,
             );
             self.x_build.clear();

@@ -36,6 +36,11 @@ pub(super) struct Patches {
     /// Edges owned by each patch (CSR).
     edge_start: Vec<u32>,
     edges: Vec<[u32; 2]>,
+    /// Per edge of `edges`: its triangles (the first twice on a border).
+    edge_triangles: Vec<[u32; 2]>,
+    /// Triangles of other patches across each patch's edges (CSR, sorted).
+    across_start: Vec<u32>,
+    across: Vec<u32>,
     /// Patches that share a vertex with each patch, itself excluded (CSR, sorted).
     neighbour_start: Vec<u32>,
     neighbours: Vec<u32>,
@@ -56,16 +61,33 @@ impl Patches {
             patch_of.iter().enumerate().map(|(t, &p)| (p, t as u32)),
         );
         let mut vertex_owner: HashMap<u32, u32> = HashMap::new();
-        let mut edge_owner: HashMap<[u32; 2], u32> = HashMap::new();
-        for (tri, &p) in rest.triangles.iter().zip(&patch_of) {
+        let mut edge_owner: HashMap<[u32; 2], (u32, [u32; 2])> = HashMap::new();
+        for (t, (tri, &p)) in rest.triangles.iter().zip(&patch_of).enumerate() {
+            let t = t as u32;
             for k in 0..3 {
                 vertex_owner.entry(tri[k]).or_insert(p);
                 let (a, b) = (tri[k], tri[(k + 1) % 3]);
-                edge_owner.entry([a.min(b), a.max(b)]).or_insert(p);
+                edge_owner
+                    .entry([a.min(b), a.max(b)])
+                    .and_modify(|(_, faces)| faces[1] = t)
+                    .or_insert((p, [t, t]));
             }
         }
         let (vertex_start, vertices) = csr(count, vertex_owner.iter().map(|(&v, &p)| (p, v)));
-        let (edge_start, edges) = csr(count, edge_owner.iter().map(|(&e, &p)| (p, e)));
+        let (edge_start, edges) = csr(count, edge_owner.iter().map(|(&e, &(p, _))| (p, e)));
+        let edge_triangles: Vec<[u32; 2]> = edges.iter().map(|e| edge_owner[e].1).collect();
+        let mut across_pairs = Vec::new();
+        for p in 0..count {
+            let rows = edge_start[p] as usize..edge_start[p + 1] as usize;
+            for &t in edge_triangles[rows].iter().flatten() {
+                if patch_of[t as usize] != p as u32 {
+                    across_pairs.push((p as u32, t));
+                }
+            }
+        }
+        across_pairs.sort_unstable();
+        across_pairs.dedup();
+        let (across_start, across) = csr(count, across_pairs.into_iter());
         let (neighbour_start, neighbours) = touching_pieces(rest, &patch_of, count);
         // Patch bins nest in cluster bins, so a patch lies in one cluster.
         let cluster_of_triangle = components_in_bins(rest, PATCH_EDGES * CLUSTER_PATCHES);
@@ -102,6 +124,9 @@ impl Patches {
             vertices,
             edge_start,
             edges,
+            edge_triangles,
+            across_start,
+            across,
             neighbour_start,
             neighbours,
             member_start,
@@ -129,6 +154,18 @@ impl Patches {
 
     pub fn edges(&self, p: usize) -> &[[u32; 2]] {
         row(&self.edge_start, &self.edges, p)
+    }
+
+    /// The triangles of each edge of [`Patches::edges`]`(p)`, in its order
+    /// (a border edge's one triangle twice).
+    pub fn edge_triangles(&self, p: usize) -> &[[u32; 2]] {
+        row(&self.edge_start, &self.edge_triangles, p)
+    }
+
+    /// The triangles of other patches that share an edge of patch `p`:
+    /// with its own, every triangle of its edges.
+    pub fn triangles_across(&self, p: usize) -> &[u32] {
+        row(&self.across_start, &self.across, p)
     }
 
     pub fn cluster_count(&self) -> usize {
@@ -285,6 +322,33 @@ mod tests {
         assert_eq!(triangles.len(), rest.triangles.len());
         assert_eq!(vertices.len(), rest.rest.len());
         assert_eq!(edges.len(), 3 * 12 * 12 + 12 * 2);
+    }
+
+    /// Each edge's triangles are its own, one triangle on the border; those
+    /// of other patches are the patch's triangles across its edges.
+    #[test]
+    fn an_edge_knows_its_triangles() {
+        let (patches, rest) = grid_patches(13);
+        for p in 0..patches.len() {
+            let own: HashSet<u32> = patches.triangles(p).iter().copied().collect();
+            let mut across = HashSet::new();
+            for (e, faces) in patches.edges(p).iter().zip(patches.edge_triangles(p)) {
+                for &t in faces {
+                    assert!(rest.triangles[t as usize].contains(&e[0]));
+                    assert!(rest.triangles[t as usize].contains(&e[1]));
+                    if !own.contains(&t) {
+                        across.insert(t);
+                    }
+                }
+                let on_border = [e[0], e[1]].iter().all(|&v| {
+                    let (r, c) = (v / 13, v % 13);
+                    r == 0 || r == 12 || c == 0 || c == 12
+                }) && (e[0] / 13 == e[1] / 13 || e[0] % 13 == e[1] % 13);
+                assert_eq!(faces[0] == faces[1], on_border, "edge {e:?}");
+            }
+            let listed: HashSet<u32> = patches.triangles_across(p).iter().copied().collect();
+            assert_eq!(listed, across);
+        }
     }
 
     #[test]
