@@ -12,7 +12,7 @@
 use glam::{DVec3, Vec3};
 
 /// Slack on barycentric coordinates when testing "inside the triangle".
-const INSIDE_TOLERANCE: f64 = 1e-3;
+pub(crate) const INSIDE_TOLERANCE: f64 = 1e-3;
 /// Newton steps per monotone piece (bisection takes over when Newton strays).
 const MAX_STEPS: usize = 40;
 

@@ -428,8 +428,9 @@ impl Scan<'_> {
     /// `t` (corners `tri`, moved up to `tm`) may make a contact that acts in
     /// the substep: the vertex lies within reach ([`Scan::reach`]) of the
     /// triangle, and its projection onto the triangle's plane within the
-    /// contacts' slack and the features' motion of the triangle (a contact
-    /// acts only where the vertex projects inside; a vertex beside a
+    /// contacts' slack, the margin, the slack of "inside" and the features'
+    /// motion of the triangle (a contact acts only where the vertex
+    /// projects inside; a vertex beside a
     /// triangle is held by the triangle next to it, or by an edge pair
     /// where the surface bends).
     fn may_act(&self, p: Vec3, tri: [Vec3; 3], t: u32, pm: f32, tm: f32) -> bool {
@@ -440,7 +441,11 @@ impl Scan<'_> {
             return false;
         }
         let beside = ccd::point_triangle_distance(p - n * height, a, b, c);
-        beside <= SLACK * self.thickness + self.margin + pm + tm
+        // How far outside an edge "inside" reaches: the barycentric slack
+        // times the edge's altitude, at most the longest side.
+        let longest = (b - a).length().max((c - b).length()).max((a - c).length());
+        let inside = ccd::INSIDE_TOLERANCE as f32 * longest;
+        beside <= SLACK * self.thickness + self.margin + inside + pm + tm
             && height * height + beside * beside < reach * reach
     }
 
