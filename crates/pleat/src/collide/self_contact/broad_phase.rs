@@ -67,6 +67,52 @@ struct PatchBound {
     edge_cone: NormalCone,
 }
 
+/// A triangle over one substep.
+#[derive(Clone, Copy, Debug, Default)]
+struct TriangleBound {
+    /// Swept box of its corners, grown by half the thickness.
+    aabb: Aabb,
+    /// How far its corners moved, at most.
+    motion: f32,
+    /// Unit normal at the substep's end, zero when degenerate.
+    normal: Vec3,
+    /// Per side (from corner `k` to the next), the unit normal in the
+    /// triangle's plane that points inwards.
+    inward: [Vec3; 3],
+    /// How far outside an edge a point still projects "inside" the
+    /// triangle ([`ccd::INSIDE_TOLERANCE`] times its longest side).
+    inside: f32,
+}
+
+impl TriangleBound {
+    fn new(tri: [u32; 3], x: &[Vec3], vertex_box: &[Aabb], motion: &[f32]) -> Self {
+        let [a, b, c] = tri.map(|k| x[k as usize]);
+        let longest = (b - a).length().max((c - b).length()).max((a - c).length());
+        let normal = (b - a).cross(c - a).normalize_or_zero();
+        TriangleBound {
+            aabb: tri
+                .iter()
+                .fold(Aabb::EMPTY, |u, &k| u.union(vertex_box[k as usize])),
+            motion: tri.iter().fold(0.0, |m, &k| m.max(motion[k as usize])),
+            normal,
+            inward: [(a, b), (b, c), (c, a)].map(|(p, q)| normal.cross(q - p).normalize_or_zero()),
+            inside: ccd::INSIDE_TOLERANCE as f32 * longest,
+        }
+    }
+}
+
+/// An edge over one substep.
+#[derive(Clone, Copy, Debug, Default)]
+struct EdgeBound {
+    /// Swept box of its ends, grown by half the thickness.
+    aabb: Aabb,
+    /// How far its ends moved, at most.
+    motion: f32,
+    /// The unit normal of a flat edge (its triangles within [`PARALLEL`]
+    /// of each other; none on paper).
+    flat: Option<Vec3>,
+}
+
 /// The normal cone of a patch or a cluster over one substep, ready for
 /// culling against [`FLAT_CONE`].
 #[derive(Clone, Copy, Debug, Default)]
@@ -101,8 +147,9 @@ pub(super) struct BroadPhase {
     /// Per particle: swept box grown by half the thickness, and how far it moved.
     vertex_box: Vec<Aabb>,
     motion: Vec<f32>,
-    /// Per triangle: unit normal at the substep's end.
-    normal: Vec<Vec3>,
+    triangle: Vec<TriangleBound>,
+    /// In the order of [`Patches::all_edges`].
+    edge: Vec<EdgeBound>,
     patch: Vec<PatchBound>,
     cluster: Vec<Smoothness>,
     cluster_box: Vec<Aabb>,
@@ -138,7 +185,8 @@ impl BroadPhase {
         out: &mut Vec<Contact>,
     ) {
         let thickness = thickness + margin;
-        self.refit(rest, patches, x_prev, x, 0.5 * thickness);
+        let parallel_cos = (!rest.has_paper()).then(|| PARALLEL.cos());
+        self.refit(rest, patches, (x_prev, x), 0.5 * thickness, parallel_cos);
         // A sequential sum: the cell size, and so the order candidates are
         // found in, is the same for any thread count.
         let total: f32 = self.cluster_box.iter().map(Aabb::extent).sum();
@@ -155,7 +203,7 @@ impl BroadPhase {
             thickness,
             margin,
             cull_across: !rest.has_paper(),
-            parallel_cos: (!rest.has_paper()).then(|| PARALLEL.cos()),
+            parallel_cos,
         };
         scratch
             .par_iter_mut()
@@ -168,14 +216,16 @@ impl BroadPhase {
         self.scratch = scratch;
     }
 
-    /// Swept boxes and normal cones of the patches.
+    /// Swept boxes of the particles, triangles and edges, and swept boxes
+    /// and normal cones of the patches and clusters; edges are flat
+    /// within `parallel_cos` (none if `None`).
     fn refit(
         &mut self,
         rest: &RestNeighbourhood,
         patches: &Patches,
-        x_prev: &[Vec3],
-        x: &[Vec3],
+        (x_prev, x): (&[Vec3], &[Vec3]),
         half: f32,
+        parallel_cos: Option<f32>,
     ) {
         self.vertex_box.resize(x.len(), Aabb::EMPTY);
         self.motion.resize(x.len(), 0.0);
@@ -186,12 +236,30 @@ impl BroadPhase {
                 *b = Aabb::around(p, q).expanded(half);
                 *m = p.distance(q);
             });
-        self.normal.resize(rest.triangles.len(), Vec3::ZERO);
-        (&mut self.normal, &rest.triangles)
+        let (vertex_box, motion) = (&self.vertex_box, &self.motion);
+        self.triangle
+            .resize(rest.triangles.len(), TriangleBound::default());
+        (&mut self.triangle, &rest.triangles)
             .into_par_iter()
             .with_min_len(1024)
-            .for_each(|(n, t)| *n = unit_normal(t, x));
-        let (vertex_box, normal) = (&self.vertex_box, &self.normal);
+            .for_each(|(b, &t)| *b = TriangleBound::new(t, x, vertex_box, motion));
+        let triangle = &self.triangle;
+        self.edge
+            .resize(patches.all_edges().len(), EdgeBound::default());
+        (&mut self.edge, patches.all_edges())
+            .into_par_iter()
+            .with_min_len(1024)
+            .for_each(|(b, (e, &[s, t]))| {
+                let (ns, nt) = (triangle[s as usize].normal, triangle[t as usize].normal);
+                let flat = parallel_cos.is_some_and(|cos| ns.dot(nt) > cos);
+                let [p, q] = e.map(|k| k as usize);
+                *b = EdgeBound {
+                    aabb: vertex_box[p].union(vertex_box[q]),
+                    motion: motion[p].max(motion[q]),
+                    flat: flat.then_some(ns),
+                };
+            });
+        let normal = |t: &u32| triangle[*t as usize].normal;
         self.patch.resize(patches.len(), PatchBound::default());
         self.patch
             .par_iter_mut()
@@ -202,13 +270,13 @@ impl BroadPhase {
                     .corners(p)
                     .iter()
                     .fold(Aabb::EMPTY, |u, &k| u.union(vertex_box[k as usize]));
-                let normals = patches.triangles(p).iter().map(|&t| normal[t as usize]);
+                let normals = patches.triangles(p).iter().map(normal);
                 let cone = NormalCone::around(normals);
                 let across = patches.triangles_across(p);
                 let edge_cone = if across.is_empty() {
                     cone
                 } else {
-                    let normals = across.iter().map(|&t| normal[t as usize]);
+                    let normals = across.iter().map(normal);
                     NormalCone::union_of([cone, NormalCone::around(normals)].into_iter())
                 };
                 *bound = PatchBound {
@@ -234,12 +302,6 @@ impl BroadPhase {
     }
 }
 
-/// Unit normal of triangle `t`, zero when it is degenerate.
-fn unit_normal(t: &[u32; 3], x: &[Vec3]) -> Vec3 {
-    let [a, b, c] = t.map(|k| x[k as usize]);
-    (b - a).cross(c - a).normalize_or_zero()
-}
-
 /// What the per-patch candidate search reads.
 struct Scan<'a> {
     rest: &'a RestNeighbourhood,
@@ -262,59 +324,46 @@ struct Scan<'a> {
 }
 
 /// The features of one patch whose boxes meet another patch's box, with
-/// their boxes and how far their particles moved in the substep.
+/// their bounds over the substep.
 #[derive(Clone, Debug, Default)]
 struct Near {
+    /// Vertex, box, motion.
     vertices: Vec<(u32, Aabb, f32)>,
-    /// Corners, global index, box, motion.
-    triangles: Vec<([u32; 3], u32, Aabb, f32)>,
-    /// Vertices, box, motion, and the unit normal of a flat edge (its
-    /// triangles within [`PARALLEL`] of each other; none on paper).
-    edges: Vec<([u32; 2], Aabb, f32, Option<Vec3>)>,
+    /// Corners, global index, bound.
+    triangles: Vec<([u32; 3], u32, TriangleBound)>,
+    edges: Vec<([u32; 2], EdgeBound)>,
 }
 
 impl Near {
     /// Gathers the features of patch `p` whose boxes meet `other`, its
     /// edges only if `edges`.
     fn gather(&mut self, scan: &Scan, p: usize, other: &Aabb, edges: bool) {
-        let (vertex_box, motion) = (&scan.bounds.vertex_box, &scan.bounds.motion);
-        let feature = |v: &[u32]| {
-            v.iter().fold((Aabb::EMPTY, 0.0f32), |(b, m), &k| {
-                (b.union(vertex_box[k as usize]), m.max(motion[k as usize]))
-            })
-        };
+        let bounds = scan.bounds;
         self.vertices.clear();
         self.triangles.clear();
         self.edges.clear();
-        for &v in scan.patches.vertices(p) {
-            let (b, m) = feature(&[v]);
-            if b.overlaps(other) {
-                self.vertices.push((v, b, m));
-            }
-        }
-        for &t in scan.patches.triangles(p) {
-            let tri = scan.rest.triangles[t as usize];
-            let (b, m) = feature(&tri);
-            if b.overlaps(other) {
-                self.triangles.push((tri, t, b, m));
-            }
-        }
-        if !edges {
-            return;
-        }
-        let normal = &scan.bounds.normal;
-        for (&e, &[s, t]) in scan
-            .patches
-            .edges(p)
-            .iter()
-            .zip(scan.patches.edge_triangles(p))
-        {
-            let (b, m) = feature(&e);
-            if b.overlaps(other) {
-                let (ns, nt) = (normal[s as usize], normal[t as usize]);
-                let flat = scan.parallel_cos.is_some_and(|cos| ns.dot(nt) > cos);
-                self.edges.push((e, b, m, flat.then_some(ns)));
-            }
+        self.vertices
+            .extend(scan.patches.vertices(p).iter().filter_map(|&v| {
+                let b = bounds.vertex_box[v as usize];
+                b.overlaps(other).then(|| (v, b, bounds.motion[v as usize]))
+            }));
+        self.triangles
+            .extend(scan.patches.triangles(p).iter().filter_map(|&t| {
+                let b = bounds.triangle[t as usize];
+                b.aabb
+                    .overlaps(other)
+                    .then(|| (scan.rest.triangles[t as usize], t, b))
+            }));
+        if edges {
+            let range = scan.patches.edge_range(p);
+            self.edges.extend(
+                scan.patches
+                    .edges(p)
+                    .iter()
+                    .zip(&bounds.edge[range])
+                    .filter(|(_, b)| b.aabb.overlaps(other))
+                    .map(|(&e, &b)| (e, b)),
+            );
         }
     }
 }
@@ -425,42 +474,44 @@ impl Scan<'_> {
     }
 
     /// Whether vertex `p` (which moved `pm` in the substep) and triangle
-    /// `t` (corners `tri`, moved up to `tm`) may make a contact that acts in
-    /// the substep: the vertex lies within reach ([`Scan::reach`]) of the
-    /// triangle, and its projection onto the triangle's plane within the
-    /// contacts' slack, the margin, the slack of "inside" and the features'
-    /// motion of the triangle (a contact acts only where the vertex
-    /// projects inside; a vertex beside a
-    /// triangle is held by the triangle next to it, or by an edge pair
-    /// where the surface bends).
-    fn may_act(&self, p: Vec3, tri: [Vec3; 3], t: u32, pm: f32, tm: f32) -> bool {
-        let n = self.bounds.normal[t as usize];
+    /// `t` (corners `tri`) may make a contact that acts in the substep: the
+    /// vertex lies within reach ([`Scan::reach`]) of the triangle's plane,
+    /// and its projection onto that plane within the contacts' slack, the
+    /// margin, the slack of "inside" and the features' motion of the lines
+    /// of the triangle's sides (a contact acts only where the vertex
+    /// projects inside; a vertex beside a triangle is held by the triangle
+    /// next to it, or by an edge pair where the surface bends).
+    fn may_act(&self, p: Vec3, tri: [Vec3; 3], t: &TriangleBound, pm: f32) -> bool {
         let [a, b, c] = tri;
+        let (n, tm) = (t.normal, t.motion);
         let (height, reach) = (n.dot(p - a), self.reach(pm, tm));
         if height.abs() >= reach {
             return false;
         }
-        let beside = ccd::point_triangle_distance(p - n * height, a, b, c);
-        // How far outside an edge "inside" reaches: the barycentric slack
-        // times the edge's altitude, at most the longest side.
-        let longest = (b - a).length().max((c - b).length()).max((a - c).length());
-        let inside = ccd::INSIDE_TOLERANCE as f32 * longest;
-        beside <= SLACK * self.thickness + self.margin + inside + pm + tm
+        // How far the projection lies outside the triangle: at least as
+        // far as outside the line of any side.
+        let beside = [a, b, c]
+            .iter()
+            .zip(t.inward)
+            .map(|(&corner, m)| m.dot(corner - p))
+            .fold(0.0, f32::max);
+        beside <= SLACK * self.thickness + self.margin + t.inside + pm + tm
             && height * height + beside * beside < reach * reach
     }
 
     /// Vertices of `a` against triangles of `b`.
     fn vertex_triangle(&self, a: &Near, b: &Near, out: &mut Vec<Contact>) {
         for &(p, pb, pm) in &a.vertices {
-            for &(tri, t, tb, tm) in &b.triangles {
+            for (tri, t, tb) in &b.triangles {
+                let (tri, t) = (*tri, *t);
                 let v = [p, tri[0], tri[1], tri[2]];
-                if !pb.overlaps(&tb) || !self.dynamic(&v) {
+                if !pb.overlaps(&tb.aabb) || !self.dynamic(&v) {
                     continue;
                 }
                 let [xp, xa, xb, xc] = v.map(|k| self.x[k as usize]);
                 // The rest exclusion last: it costs more than the distance
                 // on paper, whose pairs are mostly far apart.
-                if self.may_act(xp, [xa, xb, xc], t, pm, tm)
+                if self.may_act(xp, [xa, xb, xc], tb, pm)
                     && !self.rest.vertex_triangle_excluded(p, tri)
                 {
                     let side = self
@@ -497,9 +548,11 @@ impl Scan<'_> {
     /// its edges there too); stacked cloth has several times more of these
     /// pairs than vertex-triangle ones.
     fn edge_pairs(&self, a: &Near, b: &Near, same: bool, out: &mut Vec<Contact>) {
-        for (k, &(e, eb, em, en)) in a.edges.iter().enumerate() {
+        for (k, &(e, eb)) in a.edges.iter().enumerate() {
             let from = if same { k + 1 } else { 0 };
-            for &(f, fb, fm, fnormal) in &b.edges[from..] {
+            for &(f, fb) in &b.edges[from..] {
+                let (en, fnormal) = (eb.flat, fb.flat);
+                let (em, fm, eb, fb) = (eb.motion, fb.motion, eb.aabb, fb.aabb);
                 let v = [e[0], e[1], f[0], f[1]];
                 if !eb.overlaps(&fb) || !self.dynamic(&v) {
                     continue;

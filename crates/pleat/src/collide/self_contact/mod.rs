@@ -117,11 +117,9 @@ pub struct SelfContacts {
     /// Positions at the last build; empty before the first.
     x_build: Vec<Vec3>,
     contacts: Vec<Contact>,
-    /// Per contact: corrections of its particles, and whether it acted.
-    delta: Vec<[Vec3; 4]>,
-    active: Vec<bool>,
-    /// Contacts that acted in this iteration, in order.
-    acting: Vec<u32>,
+    /// Contacts that acted in this iteration, in order, with the
+    /// corrections of their particles.
+    acting: Vec<(u32, [Vec3; 4])>,
     /// Per particle: sum and number of the corrections of this iteration
     /// (zero again once applied).
     sum: Vec<Vec3>,
@@ -149,8 +147,6 @@ impl SelfContacts {
             rest,
             broad_phase: BroadPhase::default(),
             contacts: Vec::new(),
-            delta: Vec::new(),
-            active: Vec::new(),
             acting: Vec::new(),
             sum: vec![Vec3::ZERO; n],
             count: vec![0; n],
@@ -192,8 +188,6 @@ impl SelfContacts {
                 }
                 c.detect_crossing(xs, x_prev)
             });
-        self.delta.resize(self.contacts.len(), [Vec3::ZERO; 4]);
-        self.active.resize(self.contacts.len(), false);
         let mut stats = SelfContactStats {
             candidates: self.contacts.len(),
             built,
@@ -239,23 +233,24 @@ impl SelfContacts {
     ) -> usize {
         let s = self.settings;
         let xs: &[Vec3] = x;
-        let found: usize = (&self.contacts, &mut self.delta, &mut self.active)
-            .into_par_iter()
-            .with_min_len(MIN_TASK)
-            .map(|(c, delta, active)| {
-                let r = c.correction(xs, x_prev, inv_mass, &s);
-                *active = r.is_some();
-                *delta = r.unwrap_or_default();
-                usize::from(*active)
-            })
-            .sum();
+        // Only the few that act are kept: writing every contact's
+        // corrections cost more than computing them.
+        self.acting.clear();
+        self.acting.par_extend(
+            self.contacts
+                .par_iter()
+                .enumerate()
+                .with_min_len(MIN_TASK)
+                .filter_map(|(k, c)| {
+                    let d = c.correction(xs, x_prev, inv_mass, &s)?;
+                    Some((k as u32, d))
+                }),
+        );
+        let found = self.acting.len();
         if found == 0 {
             return 0;
         }
         let start = Instant::now();
-        self.acting.clear();
-        self.acting
-            .extend((0..self.contacts.len() as u32).filter(|&k| self.active[k as usize]));
         self.gather(x);
         *solve += start.elapsed();
         found
@@ -273,7 +268,6 @@ impl SelfContacts {
         let acting = Acting {
             acting: &self.acting,
             contacts: &self.contacts,
-            delta: &self.delta,
         };
         self.count
             .par_chunks_mut(chunk)
@@ -285,16 +279,17 @@ impl SelfContacts {
             });
         let count = &self.count;
         self.scale.clear();
-        self.scale.par_extend(acting.acting.par_iter().map(|&k| {
-            let most = acting.contacts[k as usize]
-                .particles()
-                .iter()
-                .map(|&p| count[p as usize])
-                .max()
-                .unwrap_or(1)
-                .max(1);
-            RELAXATION / most as f32
-        }));
+        self.scale
+            .par_extend(acting.acting.par_iter().map(|&(k, _)| {
+                let most = acting.contacts[k as usize]
+                    .particles()
+                    .iter()
+                    .map(|&p| count[p as usize])
+                    .max()
+                    .unwrap_or(1)
+                    .max(1);
+                RELAXATION / most as f32
+            }));
         let scale = &self.scale;
         let ranges = (
             x.par_chunks_mut(chunk),
@@ -317,9 +312,8 @@ impl SelfContacts {
 
 /// The acting contacts of an iteration and their corrections.
 struct Acting<'a> {
-    acting: &'a [u32],
+    acting: &'a [(u32, [Vec3; 4])],
     contacts: &'a [Contact],
-    delta: &'a [[Vec3; 4]],
 }
 
 impl Acting<'_> {
@@ -327,9 +321,9 @@ impl Acting<'_> {
     /// len` of the `i`-th acting contact and its correction `d`, in contact
     /// order.
     fn for_each_in(&self, start: usize, len: usize, mut f: impl FnMut(usize, usize, Vec3)) {
-        for (i, &k) in self.acting.iter().enumerate() {
+        for (i, &(k, delta)) in self.acting.iter().enumerate() {
             let particles = self.contacts[k as usize].particles();
-            for (&p, d) in particles.iter().zip(self.delta[k as usize]) {
+            for (&p, d) in particles.iter().zip(delta) {
                 let p = (p as usize).wrapping_sub(start);
                 if p < len {
                     f(i, p, d);

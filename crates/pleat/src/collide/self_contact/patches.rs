@@ -15,7 +15,9 @@
 use super::csr::{csr, row};
 use super::rest::RestNeighbourhood;
 use glam::IVec3;
+use rayon::prelude::*;
 use std::collections::HashMap;
+use std::ops::Range;
 
 /// Side of a patch's bin, in mean rest edges of its cloth.
 const PATCH_EDGES: f32 = 3.0;
@@ -156,10 +158,16 @@ impl Patches {
         row(&self.edge_start, &self.edges, p)
     }
 
-    /// The triangles of each edge of [`Patches::edges`]`(p)`, in its order
-    /// (a border edge's one triangle twice).
-    pub fn edge_triangles(&self, p: usize) -> &[[u32; 2]] {
-        row(&self.edge_start, &self.edge_triangles, p)
+    /// Every patch's edges, patch after patch, each with its triangles (a
+    /// border edge's one triangle twice): item `k` of
+    /// [`Patches::edge_range`]`(p)` is edge `k` of [`Patches::edges`]`(p)`.
+    pub fn all_edges(&self) -> impl IndexedParallelIterator<Item = (&[u32; 2], &[u32; 2])> {
+        (&self.edges, &self.edge_triangles).into_par_iter()
+    }
+
+    /// Where patch `p`'s edges lie in [`Patches::all_edges`].
+    pub fn edge_range(&self, p: usize) -> Range<usize> {
+        self.edge_start[p] as usize..self.edge_start[p + 1] as usize
     }
 
     /// The triangles of other patches that share an edge of patch `p`:
@@ -329,10 +337,13 @@ mod tests {
     #[test]
     fn an_edge_knows_its_triangles() {
         let (patches, rest) = grid_patches(13);
+        let all: Vec<_> = patches.all_edges().collect();
         for p in 0..patches.len() {
             let own: HashSet<u32> = patches.triangles(p).iter().copied().collect();
             let mut across = HashSet::new();
-            for (e, faces) in patches.edges(p).iter().zip(patches.edge_triangles(p)) {
+            let mine = &all[patches.edge_range(p)];
+            assert!(mine.iter().map(|(e, _)| *e).eq(patches.edges(p)));
+            for &(e, faces) in mine {
                 for &t in faces {
                     assert!(rest.triangles[t as usize].contains(&e[0]));
                     assert!(rest.triangles[t as usize].contains(&e[1]));
