@@ -5,10 +5,11 @@
 //! and a cloth draped on the generated torus knot.
 
 use pleat::collide::mesh_collider::{
-    closest_point_on_triangle, segment_triangle, winding_number_brute_force, Aabb,
+    closest_point_on_triangle, segment_triangle, winding_number_brute_force,
 };
 use pleat::collide::{MeshCollider, SdfGrid, Shape};
 use pleat::glam::{Quat, Vec3};
+use pleat::math::Aabb;
 use pleat::mesh::generate::{Icosphere, TorusKnot};
 use pleat::mesh::{obj::load_obj, Mesh};
 use pleat::scene::{MeshSpec, Scene};

@@ -8,75 +8,8 @@
 //! reports each overlapping box exactly once, without a visited set: a pair
 //! of boxes is reported only from the lowest cell the two share.
 
+use crate::math::Aabb;
 use glam::{IVec3, Vec3};
-
-/// An axis-aligned box.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Aabb {
-    /// The lowest corner.
-    pub min: Vec3,
-    /// The highest corner.
-    pub max: Vec3,
-}
-
-impl Default for Aabb {
-    fn default() -> Self {
-        Aabb::EMPTY
-    }
-}
-
-impl Aabb {
-    /// The box that contains nothing; the identity of [`Aabb::union`].
-    pub const EMPTY: Aabb = Aabb {
-        min: Vec3::INFINITY,
-        max: Vec3::NEG_INFINITY,
-    };
-
-    /// The box around the segment `a b`.
-    pub fn around(a: Vec3, b: Vec3) -> Aabb {
-        Aabb {
-            min: a.min(b),
-            max: a.max(b),
-        }
-    }
-
-    /// The box grown by `r` on every side.
-    pub fn expanded(self, r: f32) -> Aabb {
-        Aabb {
-            min: self.min - r,
-            max: self.max + r,
-        }
-    }
-
-    /// The smallest box containing both.
-    pub fn union(self, o: Aabb) -> Aabb {
-        Aabb {
-            min: self.min.min(o.min),
-            max: self.max.max(o.max),
-        }
-    }
-
-    /// Whether the two boxes share a point (closed boxes: touching counts).
-    pub fn overlaps(&self, o: &Aabb) -> bool {
-        self.min.cmple(o.max).all() && o.min.cmple(self.max).all()
-    }
-
-    /// Whether the two boxes, each shrunk by `depth / 2` on every side,
-    /// still share a point.
-    pub fn overlaps_by(&self, o: &Aabb, depth: f32) -> bool {
-        (self.min + depth).cmple(o.max).all() && (o.min + depth).cmple(self.max).all()
-    }
-
-    /// Whether `p` lies in the box or on its boundary.
-    pub fn contains(&self, p: Vec3) -> bool {
-        self.min.cmple(p).all() && p.cmple(self.max).all()
-    }
-
-    /// The longest side.
-    pub fn extent(&self) -> f32 {
-        (self.max - self.min).max_element()
-    }
-}
 
 /// One box entered in one cell, with what a query tests (kept inline, so a
 /// query reads its buckets in order).

@@ -64,6 +64,7 @@
 //! the distance and normal a contact pushes along, back to the side the
 //! particle came from.
 
+use crate::math::Aabb;
 use crate::mesh::Mesh;
 use glam::Vec3;
 use std::collections::HashMap;
@@ -82,58 +83,6 @@ const STACK_DEPTH: usize = 64;
 const CELLS_PER_TRIANGLE: usize = 64;
 const MIN_CELLS: usize = 1 << 12;
 const MAX_CELLS: usize = 1 << 18;
-
-/// A closed axis-aligned box.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Aabb {
-    /// The lowest corner.
-    pub min: Vec3,
-    /// The highest corner.
-    pub max: Vec3,
-}
-
-impl Aabb {
-    const EMPTY: Self = Self {
-        min: Vec3::INFINITY,
-        max: Vec3::NEG_INFINITY,
-    };
-
-    fn of_points(points: impl IntoIterator<Item = Vec3>) -> Self {
-        points.into_iter().fold(Self::EMPTY, |b, p| Self {
-            min: b.min.min(p),
-            max: b.max.max(p),
-        })
-    }
-
-    /// Whether `p` lies in the box or on its boundary.
-    pub fn contains(&self, p: Vec3) -> bool {
-        self.min.cmple(p).all() && p.cmple(self.max).all()
-    }
-
-    /// Where the segment `from + t * delta`, `t` in `[0, limit]`, enters the
-    /// box (0 if it starts inside), by slabs; `None` if it misses.
-    fn segment_entry(&self, from: Vec3, delta: Vec3, limit: f32) -> Option<f32> {
-        let (mut enter, mut exit) = (0.0f32, limit);
-        for axis in 0..3 {
-            let (lo, hi, o, d) = (self.min[axis], self.max[axis], from[axis], delta[axis]);
-            if d == 0.0 {
-                if o < lo || o > hi {
-                    return None;
-                }
-                continue;
-            }
-            let (t1, t2) = ((lo - o) / d, (hi - o) / d);
-            enter = enter.max(t1.min(t2));
-            exit = exit.min(t1.max(t2));
-        }
-        (enter <= exit).then_some(enter)
-    }
-
-    /// Squared distance from `p` to the box (zero inside).
-    fn distance_squared(&self, p: Vec3) -> f32 {
-        (p - p.clamp(self.min, self.max)).length_squared()
-    }
-}
 
 /// A node: a leaf holds `count > 0` triangles from `first` in leaf order; an
 /// inner node (`count == 0`) has its children at `first` and `first + 1`.

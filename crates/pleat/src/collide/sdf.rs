@@ -11,7 +11,8 @@
 //! of the true distance, up to interpolation error, and the relative error
 //! shrinks far away), and its normal is the gradient of that sum. Baking costs one mesh query per node, spread over threads.
 
-use super::mesh_collider::{Aabb, MeshCollider};
+use super::mesh_collider::MeshCollider;
+use crate::math::Aabb;
 use glam::Vec3;
 use rayon::prelude::*;
 use std::fmt;

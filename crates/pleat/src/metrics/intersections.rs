@@ -18,8 +18,9 @@
 pub(super) mod tri_bvh;
 mod tri_tri;
 
+use crate::math::Aabb;
 use glam::Vec3;
-use tri_bvh::{Aabb, TriBvh};
+use tri_bvh::TriBvh;
 use tri_tri::Triangle;
 
 /// Number of pairs of triangles that share no vertex and intersect.
@@ -57,7 +58,7 @@ fn for_each_intersecting_pair(
         .map(|(i, (_, tri))| {
             (
                 i as u32,
-                Aabb::of_points(&tri.map(|v| positions[v as usize])),
+                Aabb::of_points(tri.map(|v| positions[v as usize])),
             )
         })
         .collect();

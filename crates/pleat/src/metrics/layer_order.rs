@@ -12,7 +12,8 @@
 //! A crossing pair, whose layers pass through each other, has no single
 //! order: it is given by its overlap's centroid alone.
 
-use super::intersections::tri_bvh::{Aabb, TriBvh};
+use super::intersections::tri_bvh::TriBvh;
+use crate::math::Aabb;
 use glam::{DVec2, DVec3, Vec3};
 
 /// Most angle between two stacked faces' planes (degrees).
@@ -86,12 +87,8 @@ impl Face {
     /// The triangle's box grown by as far as a face stacked on it may lie.
     fn reach_box(&self) -> Aabb {
         let points = self.corners.map(|c| c.as_vec3());
-        let b = Aabb::of_points(&points);
         let reach = (STACKED * (2.0 * self.area).sqrt()) as f32;
-        Aabb {
-            min: b.min - reach,
-            max: b.max + reach,
-        }
+        Aabb::of_points(points).expanded(reach)
     }
 
     /// Whether `self` lies above (+1) or below (-1) `other`, relative to

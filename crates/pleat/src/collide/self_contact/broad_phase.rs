@@ -37,7 +37,8 @@ use super::normal_cone::NormalCone;
 use super::patches::Patches;
 use super::rest::RestNeighbourhood;
 use crate::collide::ccd;
-use crate::collide::hash_grid::{Aabb, HashGrid};
+use crate::collide::hash_grid::HashGrid;
+use crate::math::Aabb;
 use glam::Vec3;
 use rayon::prelude::*;
 use std::f32::consts::PI;
@@ -74,8 +75,6 @@ struct TriangleBound {
     aabb: Aabb,
     /// How far its corners moved, at most.
     motion: f32,
-    /// Unit normal at the substep's end, zero when degenerate.
-    normal: Vec3,
     /// Per side (from corner `k` to the next), the unit normal in the
     /// triangle's plane that points inwards.
     inward: [Vec3; 3],
@@ -85,16 +84,15 @@ struct TriangleBound {
 }
 
 impl TriangleBound {
-    fn new(tri: [u32; 3], x: &[Vec3], vertex_box: &[Aabb], motion: &[f32]) -> Self {
+    /// The bound of triangle `tri`, of unit normal `normal`.
+    fn new(tri: [u32; 3], normal: Vec3, x: &[Vec3], vertex_box: &[Aabb], motion: &[f32]) -> Self {
         let [a, b, c] = tri.map(|k| x[k as usize]);
         let longest = (b - a).length().max((c - b).length()).max((a - c).length());
-        let normal = (b - a).cross(c - a).normalize_or_zero();
         TriangleBound {
             aabb: tri
                 .iter()
                 .fold(Aabb::EMPTY, |u, &k| u.union(vertex_box[k as usize])),
             motion: tri.iter().fold(0.0, |m, &k| m.max(motion[k as usize])),
-            normal,
             inward: [(a, b), (b, c), (c, a)].map(|(p, q)| normal.cross(q - p).normalize_or_zero()),
             inside: ccd::INSIDE_TOLERANCE as f32 * longest,
         }
@@ -147,9 +145,14 @@ pub(super) struct BroadPhase {
     /// Per particle: swept box grown by half the thickness, and how far it moved.
     vertex_box: Vec<Aabb>,
     motion: Vec<f32>,
+    /// Per triangle: unit normal at the substep's end.
+    normal: Vec<Vec3>,
+    /// Per triangle, and per edge in the order of [`Patches::all_edges`]:
+    /// bounds, filled only in patches that some pair of patches reads
+    /// (`needed`).
     triangle: Vec<TriangleBound>,
-    /// In the order of [`Patches::all_edges`].
     edge: Vec<EdgeBound>,
+    needed: Vec<bool>,
     patch: Vec<PatchBound>,
     cluster: Vec<Smoothness>,
     cluster_box: Vec<Aabb>,
@@ -159,9 +162,12 @@ pub(super) struct BroadPhase {
     scratch: Vec<Scratch>,
 }
 
-/// One cluster's candidates of a substep and its feature buffers.
+/// One cluster's pairs of patches and candidates of a substep, and its
+/// feature buffers.
 #[derive(Clone, Debug, Default)]
 struct Scratch {
+    /// Pairs of patches that may touch, and whether their edge pairs may.
+    pairs: Vec<(u32, u32, bool)>,
     found: Vec<Contact>,
     mine: Near,
     theirs: Near,
@@ -186,7 +192,7 @@ impl BroadPhase {
     ) {
         let thickness = thickness + margin;
         let parallel_cos = (!rest.has_paper()).then(|| PARALLEL.cos());
-        self.refit(rest, patches, (x_prev, x), 0.5 * thickness, parallel_cos);
+        self.refit(rest, patches, (x_prev, x), 0.5 * thickness);
         // A sequential sum: the cell size, and so the order candidates are
         // found in, is the same for any thread count.
         let total: f32 = self.cluster_box.iter().map(Aabb::extent).sum();
@@ -194,21 +200,32 @@ impl BroadPhase {
         self.grid.build(&self.cluster_box, cell);
         let mut scratch = std::mem::take(&mut self.scratch);
         scratch.resize_with(patches.cluster_count(), Scratch::default);
-        let scan = Scan {
-            rest,
-            patches,
-            bounds: self,
-            x,
-            inv_mass,
-            thickness,
-            margin,
-            cull_across: !rest.has_paper(),
-            parallel_cos,
-        };
+        // Two scans around the feature bounds, each reading them as they are.
+        macro_rules! scan {
+            ($bounds:expr) => {
+                Scan {
+                    rest,
+                    patches,
+                    bounds: $bounds,
+                    x,
+                    inv_mass,
+                    thickness,
+                    margin,
+                    cull_across: !rest.has_paper(),
+                    parallel_cos,
+                }
+            };
+        }
+        let pairs = scan!(&*self);
         scratch
             .par_iter_mut()
             .enumerate()
-            .for_each(|(c, s)| scan.candidates_of(c, s));
+            .for_each(|(c, s)| pairs.pairs_of(c, &mut s.pairs));
+        self.bound_features(rest, patches, x, &scratch, parallel_cos);
+        let candidates = scan!(&*self);
+        scratch
+            .par_iter_mut()
+            .for_each(|s| candidates.candidates_of(s));
         out.clear();
         for s in &scratch {
             out.extend_from_slice(&s.found);
@@ -216,16 +233,14 @@ impl BroadPhase {
         self.scratch = scratch;
     }
 
-    /// Swept boxes of the particles, triangles and edges, and swept boxes
-    /// and normal cones of the patches and clusters; edges are flat
-    /// within `parallel_cos` (none if `None`).
+    /// Swept boxes of the particles, normals of the triangles, and swept
+    /// boxes and normal cones of the patches and clusters.
     fn refit(
         &mut self,
         rest: &RestNeighbourhood,
         patches: &Patches,
         (x_prev, x): (&[Vec3], &[Vec3]),
         half: f32,
-        parallel_cos: Option<f32>,
     ) {
         self.vertex_box.resize(x.len(), Aabb::EMPTY);
         self.motion.resize(x.len(), 0.0);
@@ -236,30 +251,16 @@ impl BroadPhase {
                 *b = Aabb::around(p, q).expanded(half);
                 *m = p.distance(q);
             });
-        let (vertex_box, motion) = (&self.vertex_box, &self.motion);
-        self.triangle
-            .resize(rest.triangles.len(), TriangleBound::default());
-        (&mut self.triangle, &rest.triangles)
+        self.normal.resize(rest.triangles.len(), Vec3::ZERO);
+        (&mut self.normal, &rest.triangles)
             .into_par_iter()
             .with_min_len(1024)
-            .for_each(|(b, &t)| *b = TriangleBound::new(t, x, vertex_box, motion));
-        let triangle = &self.triangle;
-        self.edge
-            .resize(patches.all_edges().len(), EdgeBound::default());
-        (&mut self.edge, patches.all_edges())
-            .into_par_iter()
-            .with_min_len(1024)
-            .for_each(|(b, (e, &[s, t]))| {
-                let (ns, nt) = (triangle[s as usize].normal, triangle[t as usize].normal);
-                let flat = parallel_cos.is_some_and(|cos| ns.dot(nt) > cos);
-                let [p, q] = e.map(|k| k as usize);
-                *b = EdgeBound {
-                    aabb: vertex_box[p].union(vertex_box[q]),
-                    motion: motion[p].max(motion[q]),
-                    flat: flat.then_some(ns),
-                };
+            .for_each(|(n, t)| {
+                let [a, b, c] = t.map(|k| x[k as usize]);
+                *n = (b - a).cross(c - a).normalize_or_zero();
             });
-        let normal = |t: &u32| triangle[*t as usize].normal;
+        let (vertex_box, normal) = (&self.vertex_box, &self.normal);
+        let normal = |t: &u32| normal[*t as usize];
         self.patch.resize(patches.len(), PatchBound::default());
         self.patch
             .par_iter_mut()
@@ -298,6 +299,58 @@ impl BroadPhase {
                 *cluster =
                     Smoothness::new(NormalCone::union_of(members.clone().map(|p| p.cone.cone)));
                 *aabb = members.fold(Aabb::EMPTY, |u, p| u.union(p.aabb));
+            });
+    }
+}
+
+impl BroadPhase {
+    /// Bounds of the triangles and edges of the patches in `scratch`'s
+    /// pairs, and those alone: smooth cloth, whose pairs of patches are
+    /// nearly all culled, pays for few. Edges are flat within
+    /// `parallel_cos` (none if `None`).
+    fn bound_features(
+        &mut self,
+        rest: &RestNeighbourhood,
+        patches: &Patches,
+        x: &[Vec3],
+        scratch: &[Scratch],
+        parallel_cos: Option<f32>,
+    ) {
+        self.needed.clear();
+        self.needed.resize(patches.len(), false);
+        for &(a, q, _) in scratch.iter().flat_map(|s| &s.pairs) {
+            self.needed[a as usize] = true;
+            self.needed[q as usize] = true;
+        }
+        let (vertex_box, motion, normal, needed) =
+            (&self.vertex_box, &self.motion, &self.normal, &self.needed);
+        self.triangle
+            .resize(rest.triangles.len(), TriangleBound::default());
+        (
+            &mut self.triangle,
+            &rest.triangles,
+            normal,
+            patches.patch_of_triangles(),
+        )
+            .into_par_iter()
+            .with_min_len(1024)
+            .filter(|(_, _, _, &p)| needed[p as usize])
+            .for_each(|(b, &t, &n, _)| *b = TriangleBound::new(t, n, x, vertex_box, motion));
+        self.edge
+            .resize(patches.all_edges().len(), EdgeBound::default());
+        (&mut self.edge, patches.all_edges())
+            .into_par_iter()
+            .with_min_len(1024)
+            .filter(|(_, (_, _, &p))| needed[p as usize])
+            .for_each(|(b, (e, &[s, t], _))| {
+                let (ns, nt) = (normal[s as usize], normal[t as usize]);
+                let flat = parallel_cos.is_some_and(|cos| ns.dot(nt) > cos);
+                let [p, q] = e.map(|k| k as usize);
+                *b = EdgeBound {
+                    aabb: vertex_box[p].union(vertex_box[q]),
+                    motion: motion[p].max(motion[q]),
+                    flat: flat.then_some(ns),
+                };
             });
     }
 }
@@ -369,14 +422,11 @@ impl Near {
 }
 
 impl Scan<'_> {
-    /// Candidates of cluster `c` with itself and with the clusters after it.
-    fn candidates_of(&self, c: usize, scratch: &mut Scratch) {
-        let Scratch {
-            found: out,
-            mine,
-            theirs,
-        } = scratch;
-        out.clear();
+    /// Pairs of patches of cluster `c` with itself and with the clusters
+    /// after it whose boxes overlap and which are not culled, with whether
+    /// their edge pairs may be candidates.
+    fn pairs_of(&self, c: usize, pairs: &mut Vec<(u32, u32, bool)>) {
+        pairs.clear();
         let (patch, cluster_box) = (&self.bounds.patch, &self.bounds.cluster_box);
         self.bounds.grid.for_each_overlapping(&cluster_box[c], |d| {
             let d = d as usize;
@@ -384,33 +434,47 @@ impl Scan<'_> {
                 return;
             }
             for &a in self.patches.members(c) {
-                let a = a as usize;
                 for &q in self.patches.members(d) {
-                    let q = q as usize;
+                    let (a, q) = (a as usize, q as usize);
                     if (c == d && q < a)
                         || !patch[a].aabb.overlaps(&patch[q].aabb)
                         || self.patches_culled(a, q)
                     {
                         continue;
                     }
-                    let edges = !self.edges_apart(a, q);
-                    mine.gather(self, a, &patch[q].aabb, edges);
-                    let same = q == a;
-                    if !same {
-                        theirs.gather(self, q, &patch[a].aabb, edges);
-                    }
-                    let (mine, other) = (&*mine, if same { &*mine } else { &*theirs });
-                    self.vertex_triangle(mine, other, out);
-                    if !same {
-                        self.vertex_triangle(other, mine, out);
-                    }
-                    self.particle_pairs(mine, other, same, out);
-                    if edges {
-                        self.edge_pairs(mine, other, same, out);
-                    }
+                    pairs.push((a as u32, q as u32, !self.edges_apart(a, q)));
                 }
             }
         });
+    }
+
+    /// Candidates of a cluster's pairs of patches.
+    fn candidates_of(&self, scratch: &mut Scratch) {
+        let Scratch {
+            pairs,
+            found: out,
+            mine,
+            theirs,
+        } = scratch;
+        out.clear();
+        let patch = &self.bounds.patch;
+        for &(a, q, edges) in pairs.iter() {
+            let (a, q) = (a as usize, q as usize);
+            mine.gather(self, a, &patch[q].aabb, edges);
+            let same = q == a;
+            if !same {
+                theirs.gather(self, q, &patch[a].aabb, edges);
+            }
+            let (mine, other) = (&*mine, if same { &*mine } else { &*theirs });
+            self.vertex_triangle(mine, other, out);
+            if !same {
+                self.vertex_triangle(other, mine, out);
+            }
+            self.particle_pairs(mine, other, same, out);
+            if edges {
+                self.edge_pairs(mine, other, same, out);
+            }
+        }
     }
 
     /// Whether clusters `c <= d` lie in one smooth piece of surface: one
@@ -481,9 +545,9 @@ impl Scan<'_> {
     /// of the triangle's sides (a contact acts only where the vertex
     /// projects inside; a vertex beside a triangle is held by the triangle
     /// next to it, or by an edge pair where the surface bends).
-    fn may_act(&self, p: Vec3, tri: [Vec3; 3], t: &TriangleBound, pm: f32) -> bool {
+    fn may_act(&self, p: Vec3, tri: [Vec3; 3], t: u32, bound: &TriangleBound, pm: f32) -> bool {
         let [a, b, c] = tri;
-        let (n, tm) = (t.normal, t.motion);
+        let (n, tm, t) = (self.bounds.normal[t as usize], bound.motion, bound);
         let (height, reach) = (n.dot(p - a), self.reach(pm, tm));
         if height.abs() >= reach {
             return false;
@@ -511,7 +575,7 @@ impl Scan<'_> {
                 let [xp, xa, xb, xc] = v.map(|k| self.x[k as usize]);
                 // The rest exclusion last: it costs more than the distance
                 // on paper, whose pairs are mostly far apart.
-                if self.may_act(xp, [xa, xb, xc], tb, pm)
+                if self.may_act(xp, [xa, xb, xc], t, tb, pm)
                     && !self.rest.vertex_triangle_excluded(p, tri)
                 {
                     let side = self

@@ -14,8 +14,9 @@
 //! the first particle's tangent plane at more than [`LAYER_ANGLE`] is
 //! followed along the edges, which keeps the search to folds and stacks.
 
-use crate::collide::hash_grid::{Aabb, HashGrid};
+use crate::collide::hash_grid::HashGrid;
 use crate::export::vertex_normals;
+use crate::math::Aabb;
 use glam::Vec3;
 use rayon::prelude::*;
 use std::cmp::Reverse;

@@ -38,8 +38,12 @@ pub(super) struct Patches {
     /// Edges owned by each patch (CSR).
     edge_start: Vec<u32>,
     edges: Vec<[u32; 2]>,
-    /// Per edge of `edges`: its triangles (the first twice on a border).
+    /// Per edge of `edges`: its triangles (the first twice on a border),
+    /// and its patch.
     edge_triangles: Vec<[u32; 2]>,
+    edge_patch: Vec<u32>,
+    /// Per triangle: its patch.
+    patch_of: Vec<u32>,
     /// Triangles of other patches across each patch's edges (CSR, sorted).
     across_start: Vec<u32>,
     across: Vec<u32>,
@@ -78,6 +82,7 @@ impl Patches {
         let (vertex_start, vertices) = csr(count, vertex_owner.iter().map(|(&v, &p)| (p, v)));
         let (edge_start, edges) = csr(count, edge_owner.iter().map(|(&e, &(p, _))| (p, e)));
         let edge_triangles: Vec<[u32; 2]> = edges.iter().map(|e| edge_owner[e].1).collect();
+        let edge_patch: Vec<u32> = edges.iter().map(|e| edge_owner[e].0).collect();
         let mut across_pairs = Vec::new();
         for p in 0..count {
             let rows = edge_start[p] as usize..edge_start[p + 1] as usize;
@@ -127,6 +132,8 @@ impl Patches {
             edge_start,
             edges,
             edge_triangles,
+            edge_patch,
+            patch_of,
             across_start,
             across,
             neighbour_start,
@@ -159,10 +166,15 @@ impl Patches {
     }
 
     /// Every patch's edges, patch after patch, each with its triangles (a
-    /// border edge's one triangle twice): item `k` of
+    /// border edge's one triangle twice) and its patch: item `k` of
     /// [`Patches::edge_range`]`(p)` is edge `k` of [`Patches::edges`]`(p)`.
-    pub fn all_edges(&self) -> impl IndexedParallelIterator<Item = (&[u32; 2], &[u32; 2])> {
-        (&self.edges, &self.edge_triangles).into_par_iter()
+    pub fn all_edges(&self) -> impl IndexedParallelIterator<Item = (&[u32; 2], &[u32; 2], &u32)> {
+        (&self.edges, &self.edge_triangles, &self.edge_patch).into_par_iter()
+    }
+
+    /// The patch of each triangle.
+    pub fn patch_of_triangles(&self) -> &[u32] {
+        &self.patch_of
     }
 
     /// Where patch `p`'s edges lie in [`Patches::all_edges`].
@@ -342,8 +354,9 @@ mod tests {
             let own: HashSet<u32> = patches.triangles(p).iter().copied().collect();
             let mut across = HashSet::new();
             let mine = &all[patches.edge_range(p)];
-            assert!(mine.iter().map(|(e, _)| *e).eq(patches.edges(p)));
-            for &(e, faces) in mine {
+            assert!(mine.iter().map(|(e, _, _)| *e).eq(patches.edges(p)));
+            assert!(mine.iter().all(|&(_, _, &q)| q as usize == p));
+            for &(e, faces, _) in mine {
                 for &t in faces {
                     assert!(rest.triangles[t as usize].contains(&e[0]));
                     assert!(rest.triangles[t as usize].contains(&e[1]));

@@ -3,47 +3,10 @@
 //! box centres, stored as a flat node array, and traversed against itself to
 //! list every pair of overlapping boxes exactly once.
 
-use glam::Vec3;
+use crate::math::Aabb;
 
 /// Most boxes in a leaf.
 const LEAF_SIZE: usize = 4;
-
-/// A closed axis-aligned box.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(in crate::metrics) struct Aabb {
-    pub(in crate::metrics) min: Vec3,
-    pub(in crate::metrics) max: Vec3,
-}
-
-impl Aabb {
-    const EMPTY: Self = Self {
-        min: Vec3::INFINITY,
-        max: Vec3::NEG_INFINITY,
-    };
-
-    pub(in crate::metrics) fn of_points(points: &[Vec3]) -> Self {
-        points.iter().fold(Self::EMPTY, |b, &p| Self {
-            min: b.min.min(p),
-            max: b.max.max(p),
-        })
-    }
-
-    fn union(self, other: Self) -> Self {
-        Self {
-            min: self.min.min(other.min),
-            max: self.max.max(other.max),
-        }
-    }
-
-    /// Touching boxes overlap.
-    fn overlaps(&self, other: &Self) -> bool {
-        self.min.cmple(other.max).all() && other.min.cmple(self.max).all()
-    }
-
-    fn centre(&self) -> Vec3 {
-        (self.min + self.max) * 0.5
-    }
-}
 
 /// A node: a leaf holds `count > 0` items from `first` in the item arrays;
 /// an inner node (`count == 0`) has its children at `first` and `first + 1`.
@@ -185,7 +148,7 @@ impl TriBvh {
             // Descend into the inner node, or the larger one if both are.
             (true, false) => stack.extend(nb.children().map(|c| (a, c))),
             (false, true) => stack.extend(na.children().map(|c| (c, b))),
-            (false, false) if extent(&na.bounds) >= extent(&nb.bounds) => {
+            (false, false) if side_sum(&na.bounds) >= side_sum(&nb.bounds) => {
                 stack.extend(na.children().map(|c| (c, b)))
             }
             (false, false) => stack.extend(nb.children().map(|c| (a, c))),
@@ -207,16 +170,17 @@ fn longest_axis(items: &[(u32, Aabb)]) -> usize {
     (centres.max - centres.min).max_position()
 }
 
-fn extent(b: &Aabb) -> f32 {
+fn side_sum(b: &Aabb) -> f32 {
     (b.max - b.min).element_sum()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec3;
 
     fn unit_box_at(x: f32, y: f32, z: f32) -> Aabb {
-        Aabb::of_points(&[Vec3::new(x, y, z), Vec3::new(x + 1.0, y + 1.0, z + 1.0)])
+        Aabb::of_points([Vec3::new(x, y, z), Vec3::new(x + 1.0, y + 1.0, z + 1.0)])
     }
 
     fn pairs(bvh: &TriBvh) -> Vec<(u32, u32)> {

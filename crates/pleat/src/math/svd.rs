@@ -1,4 +1,4 @@
-//! Small dense linear algebra that glam lacks: the singular value
+//! The singular value
 //! decomposition of a 3x3 matrix (cyclic Jacobi eigenvalue sweeps on `AᵀA`,
 //! in f64) and the rotation of its polar decomposition with reflections
 //! removed, as shape matching needs (Müller et al. 2005).
