@@ -301,11 +301,14 @@ impl SelfContacts {
             .enumerate()
             .for_each(|(c, (x, sum, count))| {
                 acting.for_each_in(c * chunk, x.len(), |i, p, d| sum[p] += d * scale[i]);
-                acting.for_each_in(c * chunk, x.len(), |_, p, _| {
-                    x[p] += sum[p];
-                    sum[p] = Vec3::ZERO;
-                    count[p] = 0;
-                });
+                // A particle that no correction moved has a count of zero
+                // and a sum of zero.
+                for ((x, sum), count) in x.iter_mut().zip(sum).zip(count) {
+                    if *count > 0 {
+                        *x += *sum;
+                        (*sum, *count) = (Vec3::ZERO, 0);
+                    }
+                }
             });
     }
 }
