@@ -301,9 +301,7 @@ impl BroadPhase {
                 *aabb = members.fold(Aabb::EMPTY, |u, p| u.union(p.aabb));
             });
     }
-}
 
-impl BroadPhase {
     /// Bounds of the triangles and edges of the patches in `scratch`'s
     /// pairs, and those alone: smooth cloth, whose pairs of patches are
     /// nearly all culled, pays for few. Edges are flat within
