@@ -313,6 +313,20 @@ fn a_towel_dragged_by_a_sphere_at_10_m_s_leaves_no_crossings_on_the_gpu() {
     assert!(off.iter().any(|&n| n > 0), "{off:?}");
 }
 
+/// The shipped fold_onto_itself (64 x 64): the hanging cloth falls onto the
+/// floor cloth and folds onto itself, with no crossing at any 10th frame of
+/// its fall, landing and settling (the first two seconds); without
+/// self-collision it passes through itself.
+#[test]
+fn cloth_folding_onto_itself_never_crosses_on_the_gpu() {
+    let mut scene = scene_file("fold_onto_itself.json");
+    let on = crossings_every_10_frames(&scene, 120);
+    assert!(on.iter().all(|&n| n == 0), "{on:?}");
+    scene.solver.self_collision.enabled = false;
+    let off = crossings_every_10_frames(&scene, 60);
+    assert!(off.iter().any(|&n| n > 0), "{off:?}");
+}
+
 #[test]
 fn self_contacts_are_bit_identical_between_runs() {
     for scene in [scene(SMALL_FOLD), fast_sphere()] {

@@ -370,7 +370,7 @@ fn stretch_while_dragged(sim: &mut Simulation) -> f32 {
 
 #[test]
 fn a_dragged_corner_pulls_the_cloth_along() {
-    // The grab's reach over the cloth brings it along: 1.15 at most here,
+    // The grab's reach over the cloth brings it along: 1.13 at most here,
     // where the app's user saw a spike of 9.2 times an edge's length (the
     // undragged drape on the spinning sphere: 1.07).
     let mut sim = build(&load("rotating_sphere.json"));

@@ -199,17 +199,13 @@ mod tests {
                 // Near the fold the layers are neighbours along the cloth
                 // too; a quarter of the strip from it they are layers.
                 let from_fold = x[i as usize].x.abs().min(x[j as usize].x.abs());
-                assert_eq!(
-                    rest.corner_excludes(i, j),
-                    rest.corner_excludes(j, i),
-                    "{i} {j} both ways"
-                );
+                assert_eq!(rest.layered(i, j), rest.layered(j, i), "{i} {j} both ways");
                 if from_fold < 0.06 {
                     near_fold += 1;
-                    assert!(rest.corner_excludes(i, j), "{i} {j} by the fold");
+                    assert!(!rest.layered(i, j), "{i} {j} by the fold");
                 } else if from_fold > 0.25 {
                     apart += 1;
-                    assert!(!rest.corner_excludes(i, j), "{i} {j} in two layers");
+                    assert!(rest.layered(i, j), "{i} {j} in two layers");
                 }
             }
         }
@@ -220,17 +216,10 @@ mod tests {
     fn a_flat_cloth_has_no_layers() {
         let model = strip(false);
         let rest = RestNeighbourhood::new(&model, 0.005);
-        let x = &model.rest;
-        let longest = model
-            .edges
-            .iter()
-            .map(|e| e.rest_length)
-            .fold(0.0, f32::max);
-        let radius = 2.0 * (0.005 + longest);
-        for i in 0..x.len() as u32 {
-            for j in 0..x.len() as u32 {
-                let close = i == j || x[i as usize].distance(x[j as usize]) < radius;
-                assert_eq!(rest.corner_excludes(i, j), close, "{i} {j}");
+        let n = model.rest.len() as u32;
+        for i in 0..n {
+            for j in 0..n {
+                assert!(!rest.layered(i, j), "{i} {j}");
             }
         }
     }

@@ -4,15 +4,17 @@
 //! apart by its stretch and bending constraints, not by contacts).
 //!
 //! - particle pairs that share an edge or lie closer at rest than the thickness;
-//! - cloth: vertex-triangle and edge-edge pairs with two corners closer at rest
-//!   than [`TRIANGLE_EXCLUSION`] times (thickness + the cloth's longest rest
-//!   edge): sharp folds bring them near at odd angles, and the particle pairs
-//!   handle them; but not the layers of a cloth modelled folded over, close
-//!   in space yet far apart along the cloth ([`super::folded`]);
-//! - paper (a crease pattern, whose triangles are large and whose layers fold
-//!   flat onto their neighbours): only pairs that share a particle or lie
-//!   closer at rest than [`PAPER_EXCLUSION`] times the thickness, so that a
-//!   flap folded onto the facet next to it is held a thickness away.
+//! - vertex-triangle and edge-edge pairs that share a particle, or whose
+//!   features lie closer at rest than a radius: for cloth
+//!   [`CLOTH_EXCLUSION`] times the thickness (the pairs in contact at rest),
+//!   so that a soft cloth crumpled or folded sharply still meets its
+//!   neighbours a few edges along; for paper (a crease pattern, whose
+//!   triangles are large and whose layers fold flat onto their neighbours)
+//!   [`PAPER_EXCLUSION`] times the thickness, so that a flap folded onto the
+//!   facet next to it is held a thickness away;
+//! - but never the layers of a cloth modelled folded over, close in space yet
+//!   far apart along the cloth ([`super::folded`]): a pair with a corner in
+//!   another layer than its other feature collides however close at rest.
 
 use super::csr::{csr, row};
 use super::folded::RestGraph;
@@ -21,12 +23,16 @@ use crate::collide::ccd;
 use crate::model::Model;
 use glam::Vec3;
 
-/// Vertex-triangle and edge-edge pairs closer at rest than this many
-/// (thickness + longest edge) never collide.
-const TRIANGLE_EXCLUSION: f32 = 2.0;
+/// A cloth's vertex-triangle and edge-edge pairs closer at rest than this
+/// many thicknesses never collide.
+const CLOTH_EXCLUSION: f32 = 1.0;
 /// Paper's vertex-triangle and edge-edge pairs closer at rest than this many
 /// thicknesses never collide.
 const PAPER_EXCLUSION: f32 = 2.0;
+/// A cloth's layers at rest are searched among particle pairs closer than
+/// this many (thickness + longest edge): far enough to take in the corners
+/// of a triangle in the layer under a particle.
+const LAYER_SEARCH: f32 = 2.0;
 
 #[derive(Clone, Debug, Default)]
 pub(super) struct RestNeighbourhood {
@@ -43,10 +49,10 @@ pub(super) struct RestNeighbourhood {
     pub triangles: Vec<[u32; 3]>,
     /// Per cloth: mean rest edge length.
     pub mean_edge: Vec<f32>,
-    /// Per cloth: rest distance below which two corners exclude a pair.
-    triangle_exclusion: Vec<f32>,
-    /// Per cloth: whether it is paper (pairs excluded by their rest distance
-    /// itself, not their corners').
+    /// Per cloth: rest distance of two features below which they never
+    /// collide.
+    exclusion: Vec<f32>,
+    /// Per cloth: whether it is paper.
     paper: Vec<bool>,
     thickness: f32,
     /// The side each paper vertex belongs on of the triangles its facets
@@ -58,7 +64,8 @@ impl RestNeighbourhood {
     pub fn new(model: &Model, thickness: f32) -> Self {
         let n = model.particle_count();
         let mut cloth = vec![0; n];
-        let mut triangle_exclusion = Vec::new();
+        let mut exclusion = Vec::new();
+        let mut layer_search = Vec::new();
         let mut mean_edge = Vec::new();
         let mut paper = Vec::new();
         for (k, part) in model.cloths.iter().enumerate() {
@@ -75,12 +82,21 @@ impl RestNeighbourhood {
             } else {
                 thickness
             });
-            triangle_exclusion.push(if part.paper.is_some() {
-                PAPER_EXCLUSION * thickness
+            let is_paper = part.paper.is_some();
+            exclusion.push(
+                if is_paper {
+                    PAPER_EXCLUSION
+                } else {
+                    CLOTH_EXCLUSION
+                } * thickness,
+            );
+            // Paper is never modelled in layers: a crease pattern is flat.
+            layer_search.push(if is_paper {
+                0.0
             } else {
-                TRIANGLE_EXCLUSION * (thickness + longest)
+                LAYER_SEARCH * (thickness + longest)
             });
-            paper.push(part.paper.is_some());
+            paper.push(is_paper);
         }
         let edges: Vec<[u32; 2]> = model.edges.iter().map(|e| e.v).collect();
         let (ring_start, ring) = csr(n, edges.iter().flat_map(|&[a, b]| [(a, b), (b, a)]));
@@ -91,10 +107,7 @@ impl RestNeighbourhood {
             ring: &ring,
             triangles: &model.triangles,
         };
-        let corner_radius: Vec<f32> = (triangle_exclusion.iter().zip(&paper))
-            .map(|(&r, &paper)| if paper { 0.0 } else { r })
-            .collect();
-        let (layer_start, layer) = graph.layer_pairs(&corner_radius);
+        let (layer_start, layer) = graph.layer_pairs(&layer_search);
         RestNeighbourhood {
             cloth,
             rest: model.rest.clone(),
@@ -104,7 +117,7 @@ impl RestNeighbourhood {
             layer,
             triangles: model.triangles.clone(),
             mean_edge,
-            triangle_exclusion,
+            exclusion,
             paper,
             thickness,
             layers: LayerSides::new(model),
@@ -123,16 +136,12 @@ impl RestNeighbourhood {
         self.rest_closer_than(i, j, self.thickness) || ring.binary_search(&j).is_ok()
     }
 
-    /// Whether corners `i` and `j` keep their triangles and edges apart.
-    pub fn corner_excludes(&self, i: u32, j: u32) -> bool {
-        i == j
-            || self.rest_closer_than(
-                i,
-                j,
-                self.triangle_exclusion[self.cloth[i as usize] as usize],
-            ) && row(&self.layer_start, &self.layer, i as usize)
-                .binary_search(&j)
-                .is_err()
+    /// Whether particles `i` and `j` lie in two layers of a cloth modelled
+    /// folded over.
+    pub fn layered(&self, i: u32, j: u32) -> bool {
+        row(&self.layer_start, &self.layer, i as usize)
+            .binary_search(&j)
+            .is_ok()
     }
 
     /// Whether any cloth is paper.
@@ -140,30 +149,39 @@ impl RestNeighbourhood {
         self.paper.iter().any(|&p| p)
     }
 
-    /// Whether `p` and `q` are particles of one paper sheet.
-    fn same_paper(&self, p: u32, q: u32) -> bool {
+    /// The exclusion radius of a pair of features of particles `p` and `q`:
+    /// `None` when they belong to two cloths, which always collide.
+    fn exclusion_of(&self, p: u32, q: u32) -> Option<f32> {
         let cloth = self.cloth[p as usize];
-        self.paper[cloth as usize] && cloth == self.cloth[q as usize]
+        (cloth == self.cloth[q as usize]).then(|| self.exclusion[cloth as usize])
     }
 
     /// Whether vertex `p` never meets triangle `t`.
     pub fn vertex_triangle_excluded(&self, p: u32, t: [u32; 3]) -> bool {
-        t.iter().any(|&k| self.corner_excludes(p, k))
-            || self.same_paper(p, t[0]) && {
-                let [a, b, c] = t.map(|k| self.rest[k as usize]);
-                let d = ccd::point_triangle_distance(self.rest[p as usize], a, b, c);
-                d < PAPER_EXCLUSION * self.thickness
-            }
+        if t.contains(&p) {
+            return true;
+        }
+        let Some(radius) = self.exclusion_of(p, t[0]) else {
+            return false;
+        };
+        !t.iter().any(|&k| self.layered(p, k)) && {
+            let [a, b, c] = t.map(|k| self.rest[k as usize]);
+            ccd::point_triangle_distance(self.rest[p as usize], a, b, c) < radius
+        }
     }
 
     /// Whether edges `e` and `f` never meet.
     pub fn edge_edge_excluded(&self, e: [u32; 2], f: [u32; 2]) -> bool {
-        e.iter()
-            .any(|&a| f.iter().any(|&b| self.corner_excludes(a, b)))
-            || self.same_paper(e[0], f[0]) && {
-                let [a0, a1, b0, b1] = [e[0], e[1], f[0], f[1]].map(|k| self.rest[k as usize]);
-                ccd::segment_distance(a0, a1, b0, b1) < PAPER_EXCLUSION * self.thickness
-            }
+        if e.iter().any(|k| f.contains(k)) {
+            return true;
+        }
+        let Some(radius) = self.exclusion_of(e[0], f[0]) else {
+            return false;
+        };
+        !e.iter().any(|&a| f.iter().any(|&b| self.layered(a, b))) && {
+            let [a0, a1, b0, b1] = [e[0], e[1], f[0], f[1]].map(|k| self.rest[k as usize]);
+            ccd::segment_distance(a0, a1, b0, b1) < radius
+        }
     }
 }
 
@@ -179,10 +197,17 @@ mod tests {
         let rest = RestNeighbourhood::new(&model, 0.01);
         assert!(rest.pair_excluded(0, 1), "edge");
         assert!(!rest.pair_excluded(0, 15), "far");
-        assert!(rest.corner_excludes(0, 5));
-        assert!(!rest.corner_excludes(0, 15));
-        assert!(rest.edge_edge_excluded([0, 1], [4, 5]));
-        assert!(!rest.edge_edge_excluded([0, 1], [14, 15]));
+        assert!(rest.edge_edge_excluded([0, 1], [1, 2]), "shared particle");
+        let triangle = *model.triangles.iter().find(|t| t.contains(&5)).unwrap();
+        assert!(rest.vertex_triangle_excluded(5, triangle), "own triangle");
+        // A cell (10 cm) apart: in contact at rest only when the cloth is
+        // thicker than that.
+        let far = *model.triangles.iter().find(|t| t.contains(&15)).unwrap();
+        assert!(!rest.edge_edge_excluded([0, 1], [4, 5]));
+        assert!(!rest.vertex_triangle_excluded(0, far));
+        let thick = RestNeighbourhood::new(&model, 0.15);
+        assert!(thick.edge_edge_excluded([0, 1], [4, 5]));
+        assert!(!thick.edge_edge_excluded([0, 1], [12, 13]));
     }
 
     /// Paper excludes a vertex-triangle or edge-edge pair exactly when it
