@@ -44,9 +44,10 @@ use rayon::prelude::*;
 use std::f32::consts::PI;
 
 /// Widest normal cone of a connected patch (or two touching patches) that is
-/// culled. Below 60 degrees a patch is a height field whose points closer
-/// than the thickness are at most two thicknesses apart along the surface,
-/// which the rest exclusions already cover.
+/// culled. Below 60 degrees a patch is a height field, which cannot pass
+/// through itself; its points closer than the thickness are at most two
+/// thicknesses apart along the surface, where contacts would only stiffen
+/// its bending.
 const FLAT_CONE: f32 = PI / 3.0;
 /// Extra reach of proximity candidates, in thicknesses: room for the
 /// contacts' own corrections within the substep.
