@@ -83,13 +83,12 @@ impl RestNeighbourhood {
                 thickness
             });
             let is_paper = part.paper.is_some();
-            exclusion.push(
-                if is_paper {
-                    PAPER_EXCLUSION
-                } else {
-                    CLOTH_EXCLUSION
-                } * thickness,
-            );
+            let factor = if is_paper {
+                PAPER_EXCLUSION
+            } else {
+                CLOTH_EXCLUSION
+            };
+            exclusion.push(factor * thickness);
             // Paper is never modelled in layers: a crease pattern is flat.
             layer_search.push(if is_paper {
                 0.0
