@@ -119,7 +119,7 @@ pub struct SelfContacts {
     contacts: Vec<Contact>,
     /// Contacts that acted in this iteration, in order, with the
     /// corrections of their particles.
-    acting: Vec<(u32, [Vec3; 4])>,
+    acting: Vec<Acted>,
     /// Per particle: sum and number of the corrections of this iteration
     /// (zero again once applied).
     sum: Vec<Vec3>,
@@ -239,11 +239,10 @@ impl SelfContacts {
         self.acting.par_extend(
             self.contacts
                 .par_iter()
-                .enumerate()
                 .with_min_len(MIN_TASK)
-                .filter_map(|(k, c)| {
-                    let d = c.correction(xs, x_prev, inv_mass, &s)?;
-                    Some((k as u32, d))
+                .filter_map(|c| {
+                    let delta = c.correction(xs, x_prev, inv_mass, &s)?;
+                    Some(Acted::new(c.particles(), delta))
                 }),
         );
         let found = self.acting.len();
@@ -265,31 +264,26 @@ impl SelfContacts {
     /// does not depend on the thread count.
     fn gather(&mut self, x: &mut [Vec3]) {
         let chunk = x.len().div_ceil(rayon::current_num_threads()).max(1);
-        let acting = Acting {
-            acting: &self.acting,
-            contacts: &self.contacts,
-        };
+        let acting = &self.acting;
         self.count
             .par_chunks_mut(chunk)
             .enumerate()
             .for_each(|(c, count)| {
-                acting.for_each_in(c * chunk, count.len(), |_, p, d| {
+                for_each_in(acting, c * chunk, count.len(), |_, p, d| {
                     count[p] += u32::from(d != Vec3::ZERO);
                 });
             });
         let count = &self.count;
         self.scale.clear();
-        self.scale
-            .par_extend(acting.acting.par_iter().map(|&(k, _)| {
-                let most = acting.contacts[k as usize]
-                    .particles()
-                    .iter()
-                    .map(|&p| count[p as usize])
-                    .max()
-                    .unwrap_or(1)
-                    .max(1);
-                RELAXATION / most as f32
-            }));
+        self.scale.par_extend(acting.par_iter().map(|a| {
+            let most = a
+                .particles()
+                .map(|p| count[p as usize])
+                .max()
+                .unwrap_or(1)
+                .max(1);
+            RELAXATION / most as f32
+        }));
         let scale = &self.scale;
         let ranges = (
             x.par_chunks_mut(chunk),
@@ -300,7 +294,7 @@ impl SelfContacts {
             .into_par_iter()
             .enumerate()
             .for_each(|(c, (x, sum, count))| {
-                acting.for_each_in(c * chunk, x.len(), |i, p, d| sum[p] += d * scale[i]);
+                for_each_in(acting, c * chunk, x.len(), |i, p, d| sum[p] += d * scale[i]);
                 // A particle that no correction moved has a count of zero
                 // and a sum of zero.
                 for ((x, sum), count) in x.iter_mut().zip(sum).zip(count) {
@@ -313,24 +307,43 @@ impl SelfContacts {
     }
 }
 
-/// The acting contacts of an iteration and their corrections.
-struct Acting<'a> {
-    acting: &'a [(u32, [Vec3; 4])],
-    contacts: &'a [Contact],
+/// A contact that acted in an iteration: its particles and their
+/// corrections, copied out of the candidates so that the passes over the
+/// acting contacts read them in order.
+#[derive(Clone, Copy, Debug)]
+struct Acted {
+    /// The contact's particles, [`Acted::NONE`] past the last.
+    particles: [u32; 4],
+    delta: [Vec3; 4],
 }
 
-impl Acting<'_> {
-    /// Calls `f(i, p - start, d)` for each particle `p` in `start..start +
-    /// len` of the `i`-th acting contact and its correction `d`, in contact
-    /// order.
-    fn for_each_in(&self, start: usize, len: usize, mut f: impl FnMut(usize, usize, Vec3)) {
-        for (i, &(k, delta)) in self.acting.iter().enumerate() {
-            let particles = self.contacts[k as usize].particles();
-            for (&p, d) in particles.iter().zip(delta) {
-                let p = (p as usize).wrapping_sub(start);
-                if p < len {
-                    f(i, p, d);
-                }
+impl Acted {
+    /// Marks the slots of a contact of fewer than four particles.
+    const NONE: u32 = u32::MAX;
+
+    fn new(particles: &[u32], delta: [Vec3; 4]) -> Self {
+        let mut all = [Self::NONE; 4];
+        all[..particles.len()].copy_from_slice(particles);
+        Acted {
+            particles: all,
+            delta,
+        }
+    }
+
+    fn particles(&self) -> impl Iterator<Item = u32> + '_ {
+        self.particles.iter().copied().filter(|&p| p != Self::NONE)
+    }
+}
+
+/// Calls `f(i, p - start, d)` for each particle `p` in `start..start + len`
+/// of the `i`-th acting contact and its correction `d`, in contact order
+/// ([`Acted::NONE`] lies past any range).
+fn for_each_in(acting: &[Acted], start: usize, len: usize, mut f: impl FnMut(usize, usize, Vec3)) {
+    for (i, a) in acting.iter().enumerate() {
+        for (&p, d) in a.particles.iter().zip(a.delta) {
+            let p = (p as usize).wrapping_sub(start);
+            if p < len {
+                f(i, p, d);
             }
         }
     }
