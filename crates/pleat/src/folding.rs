@@ -129,7 +129,7 @@ pub struct HingeState {
     pub angle: Option<f32>,
     /// Fold angle the pattern asks of the hinge: the progress times its
     /// full angle (the hinge itself is driven to that capped at
-    /// [`MAX_TARGET_ANGLE`](crate::constraint::hinge::MAX_TARGET_ANGLE));
+    /// [`MAX_TARGET_ANGLE`](crate::constraint::fold_drive::MAX_TARGET_ANGLE));
     /// `None` when undriven.
     pub target: Option<f32>,
 }
@@ -506,7 +506,7 @@ mod tests {
             .unwrap();
         assert_eq!(valley.target, Some(PI));
         let at_cap = HingeState {
-            angle: Some(crate::constraint::hinge::MAX_TARGET_ANGLE),
+            angle: Some(crate::constraint::fold_drive::MAX_TARGET_ANGLE),
             ..*valley
         };
         assert!((at_cap.error().unwrap().to_degrees() - 2.0).abs() < 1e-3);

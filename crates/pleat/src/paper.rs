@@ -6,7 +6,7 @@
 //! hinges ([`crate::constraint::OrigamiHinge`]): mountain and valley creases fold to `c` times
 //! their full angle (the pattern's own fold angle, else 180 degrees;
 //! targets are capped at
-//! [`MAX_TARGET_ANGLE`](crate::constraint::hinge::MAX_TARGET_ANGLE) so that
+//! [`MAX_TARGET_ANGLE`](crate::constraint::fold_drive::MAX_TARGET_ANGLE) so that
 //! flat-folded layers stay apart; fold-angle errors are measured against
 //! the uncapped `c` times the full angle), facet hinges (flat, auxiliary
 //! and triangulation edges) are held flat by a stiffer hinge, and unassigned

@@ -33,18 +33,12 @@
 //! target 0) stay linear: they are paper's bending, not creases.
 
 use super::bending::dihedral_angle_simd;
+use super::fold_drive::{FoldDrive, MAX_TARGET_ANGLE};
 use super::positions::Positions;
-use super::projection::{sealed::Sealed, Constraint, FoldDrive, Substep};
+use super::projection::{sealed::Sealed, Constraint, Substep};
 use super::xpbd::{alpha_tilde, project};
 use glam::{Vec3, Vec3A};
 use std::f32::consts::{PI, TAU};
-
-/// Largest fold angle a hinge is driven to (radians) in paper without a
-/// thickness: 178 degrees, so that the layers of a flat fold meet at a small
-/// angle instead of lying in one plane, where a thickness-free sheet cannot
-/// tell which layer is on top. Paper with a thickness ([`FoldDrive::flat`])
-/// is driven to 180, its contacts keeping the layers apart.
-pub const MAX_TARGET_ANGLE: f32 = 178.0 * PI / 180.0;
 
 /// Fold-angle error (radians) at which a driven crease's stiffening peaks:
 /// its constraint rises with twice the slope it has at its target there,

@@ -3,6 +3,7 @@
 //! (its `1 / dt^2`, the live compliances and the fold's [`FoldDrive`]).
 
 use super::compliances::AS_BUILT;
+use super::fold_drive::FoldDrive;
 use super::positions::Positions;
 use glam::Vec3;
 
@@ -78,34 +79,6 @@ impl Substep<'static> {
                 held: false,
                 flat: false,
             },
-        }
-    }
-}
-
-/// The fold's drive at a step, the same for every hinge: what the caller
-/// sets from frame to frame, read by each projection.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct FoldDrive {
-    /// The fold progress `c` in `[0, 1]`: driven creases go to `c` times
-    /// their full angle.
-    pub progress: f32,
-    /// Whether the progress is held (unmoved since the last frame): a
-    /// driven crease is then a stiffening spring (see the module
-    /// documentation).
-    pub held: bool,
-    /// Whether flat folds are driven all the way to 180 degrees (paper with
-    /// a thickness, whose contacts keep the layers apart), not to
-    /// [`MAX_TARGET_ANGLE`](super::hinge::MAX_TARGET_ANGLE).
-    pub flat: bool,
-}
-
-impl FoldDrive {
-    /// The largest angle a crease is driven to (radians).
-    pub fn max_angle(&self) -> f32 {
-        if self.flat {
-            std::f32::consts::PI
-        } else {
-            super::hinge::MAX_TARGET_ANGLE
         }
     }
 }
