@@ -97,8 +97,12 @@ fn contacts_keep_linear_momentum() {
     }
     assert!(sim.stages.self_contacts > 0, "the cloths never touched");
     let after = sim.particles.momentum();
+    // Rounding alone: 1.35e-4 of the momentum after the 1,500 Jacobi
+    // iterations of these 30 frames (five a substep). The cloths meet at
+    // 3 m/s and exchange momentum of the order of their own: contacts
+    // whose corrections were not equal and opposite would show far above.
     assert!(
-        after.distance(before) < 1e-4 * before.length(),
+        after.distance(before) < 2e-4 * before.length(),
         "momentum {before} -> {after}"
     );
 }
@@ -177,13 +181,27 @@ fn fold_onto_itself_never_passes_through_itself() {
     no_crossing_every_10_frames("fold_onto_itself.json");
 }
 
+/// The same at 128 x 128, where the cloth's thickness is its edge length,
+/// over the fall and the landing (its first 60 frames): with three contact
+/// iterations a substep, the landing cloth was left crossing itself 567
+/// times at frame 30.
+#[test]
+fn fold_onto_itself_at_128_lands_without_passing_through_itself() {
+    no_crossing_every_10_frames_until("fold_onto_itself_128.json", 60);
+}
+
 /// Runs the shipped scene `file` to its end, with no self-intersection and
 /// no NaN at any 10th frame.
 fn no_crossing_every_10_frames(file: &str) -> Vec<Vec3> {
+    no_crossing_every_10_frames_until(file, u32::MAX)
+}
+
+/// [`no_crossing_every_10_frames`] over the first `frames` frames at most.
+fn no_crossing_every_10_frames_until(file: &str, frames: u32) -> Vec<Vec3> {
     let scene = Scene::load(&scenes_dir().join(file)).unwrap();
     let mut sim = build(&scene);
     let mut centroids = Vec::new();
-    for frame in 1..=scene.frames {
+    for frame in 1..=scene.frames.min(frames) {
         sim.step(scene.frame_dt());
         if frame % 10 == 0 {
             let crossings = count_self_intersections(&sim.particles.x, &sim.model.triangles);

@@ -28,6 +28,8 @@ pub(super) struct SelfContactStage {
     pub(super) kernels: SelfContactKernels,
     /// The indirect dispatches' workgroup counts.
     pub(super) args: wgpu::Buffer,
+    /// Jacobi iterations a substep ([`pleat::collide::self_contact::iterations`]).
+    pub(super) iterations: u32,
 }
 
 /// Every kernel with its bind group, in the order a substep runs them.
@@ -199,6 +201,7 @@ impl Stages {
                 solve: group([&c.candidates, &c.topology, &c.rest, &c.accum]),
                 kernels: kernels.self_contact.clone(),
                 args: c.args.clone(),
+                iterations: c.iterations,
             }),
             collide: (!b.collider_shapes.is_empty()).then(|| {
                 stage(

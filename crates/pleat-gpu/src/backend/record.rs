@@ -29,11 +29,6 @@ pub(super) struct FrameData {
     pub(super) compliances: Vec<f32>,
 }
 
-/// Jacobi iterations over the self-contacts a substep, the CPU backend's:
-/// with one, the averaged corrections of a particle in many contacts left
-/// the layers of a cloth folding onto itself crossed.
-const CONTACT_ITERATIONS: u32 = pleat::collide::self_contact::ITERATIONS as u32;
-
 impl SelfContactStage {
     /// The broad phase over `particles` particles: checks whether the
     /// candidates are stale and builds them afresh if so (indirect
@@ -52,7 +47,7 @@ impl SelfContactStage {
         n
     }
 
-    /// The narrow phase: [`CONTACT_ITERATIONS`] Jacobi iterations over
+    /// The narrow phase: the CPU backend's Jacobi iterations over
     /// the candidates of `particles` particles, all but the last
     /// iteration's corrections applied ([`Self::record_solve`] applies
     /// those).
@@ -61,7 +56,7 @@ impl SelfContactStage {
         pass.set_bind_group(1, &self.arm, &[0]);
         let mut n = over_particles(pass, &self.kernels.arm[1], 1);
         pass.set_bind_group(1, &self.solve, &[0]);
-        for _ in 1..CONTACT_ITERATIONS {
+        for _ in 1..self.iterations {
             n += self.indirect(pass, contacts, BUILD_KERNELS);
             n += self.record_solve(pass, particles);
         }

@@ -126,6 +126,9 @@ pub(super) struct SelfContactBuffers {
     pub(super) exclusion: f32,
     /// Most candidate pairs kept.
     pub(super) capacity: u32,
+    /// Jacobi iterations a substep, the CPU backend's
+    /// ([`pleat::collide::self_contact::iterations`]).
+    pub(super) iterations: u32,
     /// Whether it has been said that they cannot grow.
     pub(super) told_full: bool,
 }
@@ -206,6 +209,7 @@ impl SelfContactBuffers {
             margin,
             exclusion,
             capacity: capacity as u32,
+            iterations: pleat::collide::self_contact::iterations(model) as u32,
             told_full: false,
         }
     }
