@@ -98,9 +98,9 @@ fn contacts_keep_linear_momentum() {
     assert!(sim.stages.self_contacts > 0, "the cloths never touched");
     let after = sim.particles.momentum();
     // Rounding alone: 1.35e-4 of the momentum after the 1,500 Jacobi
-    // iterations of these 30 frames (five a substep). The cloths meet at
-    // 3 m/s and exchange momentum of the order of their own: contacts
-    // whose corrections were not equal and opposite would show far above.
+    // iterations of these 30 frames (five a substep). Contacts whose
+    // corrections were not equal and opposite would change it by the
+    // impulses they exchange, the cloths meeting at 3 m/s.
     assert!(
         after.distance(before) < 2e-4 * before.length(),
         "momentum {before} -> {after}"
