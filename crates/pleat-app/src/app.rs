@@ -411,7 +411,7 @@ impl PleatApp {
     }
 
     /// Pauses the run the first time its scene goes unstable (NaN,
-    /// runaway energy, torn paper), instead of stepping on over NaN; the
+    /// runaway energy, torn paper or cloth), instead of stepping on over NaN; the
     /// banner says when and where.
     fn halt_if_unstable(&mut self) {
         if self.probe.instability.is_some() && self.halted != Some(self.opened) {

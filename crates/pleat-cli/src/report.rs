@@ -46,7 +46,7 @@ pub struct Report {
     /// Simulated time (s) of the first instability, if any.
     pub unstable_at: Option<f32>,
     /// What it was: `non_finite`, `runaway` (energy) or `torn` (paper
-    /// stretched past 25 %).
+    /// stretched past 25 %, an inextensible cloth to three times its length).
     pub unstable_kind: Option<&'static str>,
     /// Where it showed: the first non-finite particle, else the fastest.
     pub unstable_particle: Option<u32>,

@@ -1,14 +1,15 @@
 // The health of the state after a frame (crate::stability): non-finite
 // positions and velocities, kinetic and potential energy, the fastest
-// particle and the largest strain of a paper edge. Reduced per workgroup,
+// particle and the largest length over tear length of a paper edge (a
+// cloth's tear is found when its state is read back). Reduced per workgroup,
 // then over the workgroups by one workgroup in a fixed order, so every run
 // sums the same way.
 
 @group(1) @binding(0) var<storage, read_write> rest: array<vec4<f32>>;
-@group(1) @binding(1) var<storage, read_write> paper_edges: array<PaperEdge>;
+@group(1) @binding(1) var<storage, read_write> tear_edges: array<TearEdge>;
 @group(1) @binding(2) var<storage, read_write> partials: array<Summary>;
 @group(1) @binding(3) var<storage, read_write> result: array<Summary>;
-// count: the number of paper edges.
+// count: the number of tear edges.
 
 var<workgroup> scratch: array<Summary, 256>;
 
@@ -26,7 +27,7 @@ fn merge(a: Summary, b: Summary) -> Summary {
     }
     r.kinetic = a.kinetic + b.kinetic;
     r.potential = a.potential + b.potential;
-    r.strain = max(a.strain, b.strain);
+    r.tear = max(a.tear, b.tear);
     return r;
 }
 
@@ -37,7 +38,7 @@ fn finite(v: vec3<f32>) -> bool {
     return all(exponent != vec3<u32>(0x7f800000u));
 }
 
-// Particle k's part, and paper edge k's strain.
+// Particle k's part, and tear edge k's length over its tear length.
 fn measure(k: u32) -> Summary {
     var s = empty();
     if k < params.particle_count {
@@ -56,8 +57,8 @@ fn measure(k: u32) -> Summary {
         }
     }
     if k < range.count {
-        let e = paper_edges[k];
-        s.strain = length(pos[e.a].xyz - pos[e.b].xyz) / e.rest_length - 1.0;
+        let e = tear_edges[k];
+        s.tear = length(pos[e.a].xyz - pos[e.b].xyz) / e.tear_length;
     }
     return s;
 }

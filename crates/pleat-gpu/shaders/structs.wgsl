@@ -149,15 +149,16 @@ struct Summary {
     speed2: f32,
     kinetic: f32,
     potential: f32,
-    strain: f32,
+    tear: f32,
     pad: u32,
 }
 
-// A paper edge whose strain counts as a tear (crate::health::PaperEdge).
-struct PaperEdge {
+// A paper edge whose stretch beyond its tear length is a tear
+// (crate::health::TearEdge).
+struct TearEdge {
     a: u32,
     b: u32,
-    rest_length: f32,
+    tear_length: f32,
     pad: u32,
 }
 

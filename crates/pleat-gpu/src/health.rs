@@ -7,7 +7,7 @@
 use crate::buffers::{entry, sized_entry, storage, zeroed};
 use crate::kernels::{workgroups, Kernels};
 use bytemuck::{Pod, Zeroable};
-use pleat::stability::{paper_edges, Health};
+use pleat::stability::{tear_edges, Health};
 use pleat::Model;
 use std::sync::atomic::{AtomicU8, Ordering};
 use std::sync::Arc;
@@ -27,7 +27,7 @@ pub(crate) struct Summary {
     pub(crate) speed2: f32,
     pub(crate) kinetic: f32,
     pub(crate) potential: f32,
-    pub(crate) strain: f32,
+    pub(crate) tear: f32,
     pub(crate) pad: u32,
 }
 
@@ -41,34 +41,39 @@ impl Summary {
             time,
             non_finite: self.non_finite > 0,
             mechanical_energy: self.kinetic + self.potential,
-            paper_strain: self.strain,
+            tear: self.tear,
             culprit,
         }
     }
 }
 
-/// A paper edge whose strain counts as a tear (`PaperEdge` in structs.wgsl).
+/// A paper edge whose stretch beyond its tear length is a tear
+/// (`TearEdge` in structs.wgsl, [`pleat::stability::TearEdge`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-pub(crate) struct PaperEdge {
+pub(crate) struct TearEdge {
     pub(crate) a: u32,
     pub(crate) b: u32,
-    pub(crate) rest_length: f32,
+    pub(crate) tear_length: f32,
     pub(crate) pad: u32,
 }
 
-/// The paper edges of `model`, as the reduction reads them.
-pub struct PaperEdges(Vec<PaperEdge>);
+/// The edges of `model` the reduction watches for a tear: paper's. A
+/// cloth's tear is found when its state is read back
+/// ([`pleat::Simulation::sync`]): a list of every cloth edge would more
+/// than double a large cloth's memory (a 2048 x 2048 cloth's would pass
+/// WebGPU's 128 MiB binding limit).
+pub struct TearEdges(Vec<TearEdge>);
 
-impl PaperEdges {
+impl TearEdges {
     pub fn of(model: &Model) -> Self {
-        PaperEdges(
-            paper_edges(model)
-                .filter(|e| e.rest_length > 0.0)
-                .map(|e| PaperEdge {
+        TearEdges(
+            tear_edges(model)
+                .filter(|e| e.paper)
+                .map(|e| TearEdge {
                     a: e.v[0],
                     b: e.v[1],
-                    rest_length: e.rest_length,
+                    tear_length: e.tear_length,
                     pad: 0,
                 })
                 .collect(),
@@ -84,9 +89,9 @@ impl PaperEdges {
 pub struct HealthWatch {
     bind_group: wgpu::BindGroup,
     pipelines: [wgpu::ComputePipeline; 2],
-    /// Dynamic offset of the range that holds the paper edge count.
+    /// Dynamic offset of the range that holds the tear edge count.
     range_offset: u32,
-    /// Invocations of the first kernel: particles or paper edges, the more.
+    /// Invocations of the first kernel: particles or tear edges, the more.
     items: u32,
     result: wgpu::Buffer,
     readback: wgpu::Buffer,
@@ -125,8 +130,8 @@ const COUNTERS: std::ops::Range<u64> = 8..24;
 /// What [`HealthWatch::new`] binds besides its own buffers.
 pub struct HealthInputs<'a> {
     pub model: &'a Model,
-    pub paper: &'a PaperEdges,
-    /// The range table and the offset of the paper edges' range in it.
+    pub tears: &'a TearEdges,
+    /// The range table and the offset of the tear edges' range in it.
     pub ranges: (&'a wgpu::Buffer, u32),
     /// The self-contacts' candidates, if any: their counters come back too.
     pub contact_counts: Option<&'a wgpu::Buffer>,
@@ -136,7 +141,7 @@ impl HealthWatch {
     pub fn new(device: &wgpu::Device, kernels: &Kernels, inputs: HealthInputs<'_>) -> Self {
         let HealthInputs {
             model,
-            paper,
+            tears,
             ranges: (ranges, range_offset),
             contact_counts,
         } = inputs;
@@ -145,11 +150,11 @@ impl HealthWatch {
             .iter()
             .map(|p| p.extend(0.0).to_array())
             .collect();
-        let items = (model.particle_count() as u32).max(paper.len());
+        let items = (model.particle_count() as u32).max(tears.len());
         let (x, y) = workgroups(items);
         let size = size_of::<Summary>() as u64;
         let rest = storage(device, "rest positions", &rest);
-        let edges = storage(device, "paper edges", &paper.0);
+        let edges = storage(device, "tear edges", &tears.0);
         let partials = zeroed(device, "health partials", x as u64 * y as u64 * size);
         let result = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("health"),

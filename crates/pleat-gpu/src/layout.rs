@@ -4,7 +4,7 @@
 
 use crate::backend::persistent::Program;
 use crate::data::{Attachment, GpuCollider, GpuPose, Params, Range};
-use crate::health::{PaperEdge, Summary};
+use crate::health::{Summary, TearEdge};
 use crate::shaders::STRUCTS;
 use pleat::constraint::{
     DihedralBending, DistanceConstraint, IsometricBending, LongRangeLimit, OrigamiHinge, Tether,
@@ -127,9 +127,9 @@ fn collider_and_pose_match_wgsl() {
 #[test]
 fn health_structs_match_wgsl() {
     assert_mirrors!(Summary as "Summary" {
-        non_finite, first_bad, fastest, speed2, kinetic, potential, strain, pad,
+        non_finite, first_bad, fastest, speed2, kinetic, potential, tear, pad,
     });
-    assert_mirrors!(PaperEdge as "PaperEdge" { a, b, rest_length, pad });
+    assert_mirrors!(TearEdge as "TearEdge" { a, b, tear_length, pad });
 }
 
 /// The core's constraints, uploaded as they are.

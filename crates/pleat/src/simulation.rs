@@ -10,8 +10,8 @@ use crate::metrics::Metrics;
 use crate::model::Model;
 use crate::paper::FoldRamp;
 use crate::particles::Particles;
-use crate::solver::{SolverSettings, StageTimes};
-use crate::stability::StabilityMonitor;
+use crate::solver::{SolverKind, SolverSettings, StageTimes};
+use crate::stability::{StabilityMonitor, Tearing};
 use crate::world::World;
 
 /// A running simulation: the model, the world, the particles and the backend
@@ -131,8 +131,9 @@ impl Simulation {
         if !self.synced {
             self.backend.download(&mut self.particles);
             self.synced = true;
+            let tearing = tearing(&self.settings, &self.compliances);
             self.stability
-                .check(&self.model, &self.world, &self.particles);
+                .check(&self.model, &self.world, &self.particles, tearing);
         }
         &self.particles
     }
@@ -152,8 +153,9 @@ impl Simulation {
         self.observe_health();
         if !self.synced && self.backend.try_download(&mut self.particles) {
             self.synced = true;
+            let tearing = tearing(&self.settings, &self.compliances);
             self.stability
-                .check(&self.model, &self.world, &self.particles);
+                .check(&self.model, &self.world, &self.particles, tearing);
         }
         self.synced
     }
@@ -227,8 +229,9 @@ impl Simulation {
         self.world.time += frame_dt;
         self.frames_stepped += 1;
         if self.backend.steps_in_place() {
+            let tearing = tearing(&self.settings, &self.compliances);
             self.stability
-                .check(&self.model, &self.world, &self.particles);
+                .check(&self.model, &self.world, &self.particles, tearing);
         } else {
             self.synced = false;
             self.observe_health();
@@ -264,5 +267,13 @@ impl Simulation {
         let mut m = Metrics::measure(&self.model, &self.world, &self.particles);
         m.unstable |= self.stability.verdict().is_some();
         m
+    }
+}
+
+/// The edges that count as torn: cloths' too where the XPBD solver holds
+/// their stretch by their live compliances.
+fn tearing<'a>(settings: &SolverSettings, compliances: &'a Compliances) -> Tearing<'a> {
+    Tearing {
+        cloth: (settings.kind == SolverKind::Xpbd).then_some(compliances),
     }
 }

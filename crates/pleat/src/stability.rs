@@ -1,7 +1,8 @@
 //! Instability detection and the mechanical energy of a state.
 //!
-//! A solver that produces non-finite positions or velocities, or runaway
-//! energy (the way an explicit mass-spring cloth explodes), marks the
+//! A solver that produces non-finite positions or velocities, runaway
+//! energy (the way an explicit mass-spring cloth explodes) or a tear (an
+//! edge that may not stretch, far longer than it is), marks the
 //! simulation unstable instead of crashing; reports carry the flag.
 //!
 //! The mechanical energy is kinetic plus gravitational potential energy
@@ -15,11 +16,16 @@
 //! threshold. The same figure lets solvers be compared on one scale
 //! whatever their elastic model.
 
-use crate::model::{Model, RestEdge};
+use crate::constraint::{Compliances, ALWAYS_HELD};
+use crate::model::Model;
 use crate::motion::Motion;
 use crate::particles::Particles;
 use crate::world::World;
 use glam::Vec3;
+use rayon::prelude::*;
+
+/// Smallest number of edges a rayon task takes on in the tear check.
+const MIN_TASK: usize = 4096;
 
 /// Mechanical energy above this many times [`energy_scale`] (plus what
 /// paper creases can release) is runaway.
@@ -35,8 +41,9 @@ pub enum Instability {
     NonFinite,
     /// The mechanical energy exceeds [`RUNAWAY_ENERGY`] times [`energy_scale`].
     Runaway,
-    /// An edge of paper is longer than its rest length by more than
-    /// [`PAPER_TEAR_STRAIN`]: the inextensible sheet has crumpled.
+    /// An edge that may not stretch is longer than its rest length by
+    /// more than its tear strain ([`TearEdge`]): the inextensible sheet
+    /// has crumpled, or the solve blew the cloth apart.
     Torn,
 }
 
@@ -58,8 +65,95 @@ pub const TEAR_PERSISTENCE: f32 = 0.25;
 /// torn: a solve that leaves an edge a quarter longer than it is has failed.
 pub const PAPER_TEAR_STRAIN: f32 = 0.25;
 
+/// Strain past which an edge of a cloth that may not stretch (under the
+/// XPBD solver, its live stretch compliance zero or a strain limit, which
+/// adds to it) counts as torn: three times its length, a cloth blown
+/// apart. The shipped scenes stay below 2.2: 1.34 at most where the solve
+/// works, 2.15 where thin parts of the bunny pass between two particles
+/// (`bunny_sdf.json`: each of its most stretched edges runs through the
+/// bunny, which contacts of particles alone cannot stop). The default drape with
+/// stiff dihedral bending, which blows apart, reached 6.4 within half a
+/// second.
+pub const CLOTH_TEAR_STRAIN: f32 = 2.0;
+
+/// An edge whose stretch beyond `tear_length` is a tear while it may not
+/// stretch: always where `slot` is [`ALWAYS_HELD`] (paper, a cloth with a
+/// strain limit), else while its cloth's live stretch compliance (the
+/// table's entry `slot`) is zero.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TearEdge {
+    /// The two particles.
+    pub v: [u32; 2],
+    /// Rest length times one plus the tear strain (m).
+    pub tear_length: f32,
+    /// The compliance slot that decides whether it may stretch
+    /// ([`Compliances::held_slot`]).
+    pub slot: u32,
+    /// Whether it is paper's (a cloth's counts only under XPBD).
+    pub paper: bool,
+}
+
+impl TearEdge {
+    /// Its length in `x` over its tear length: beyond 1, torn.
+    pub fn tear(&self, x: &[Vec3]) -> f32 {
+        x[self.v[0] as usize].distance(x[self.v[1] as usize]) / self.tear_length
+    }
+}
+
+/// The edges of `model` that can tear, each with its tear length: paper's
+/// at [`PAPER_TEAR_STRAIN`], cloths' at [`CLOTH_TEAR_STRAIN`] plus their
+/// strain limit.
+pub fn tear_edges(model: &Model) -> impl Iterator<Item = TearEdge> + '_ {
+    let cloths: Vec<_> = model
+        .cloths
+        .iter()
+        .enumerate()
+        .map(|(index, c)| match c.paper {
+            Some(_) => (c.particles(), PAPER_TEAR_STRAIN, ALWAYS_HELD, true),
+            None => {
+                let strain = CLOTH_TEAR_STRAIN + c.material.max_strain.unwrap_or(0.0);
+                (
+                    c.particles(),
+                    strain,
+                    Compliances::held_slot(c, index),
+                    false,
+                )
+            }
+        })
+        .collect();
+    model.edges.iter().filter_map(move |e| {
+        let (_, strain, slot, paper) = cloths
+            .iter()
+            .find(|(range, ..)| range.contains(&(e.v[0] as usize)))?;
+        (e.rest_length > 0.0).then(|| TearEdge {
+            v: e.v,
+            tear_length: (1.0 + strain) * e.rest_length,
+            slot: *slot,
+            paper: *paper,
+        })
+    })
+}
+
+/// Which edges count as torn in a check: paper's always, and cloths'
+/// under `compliances` where the solver (XPBD) holds their stretch by them.
+#[derive(Clone, Copy, Debug)]
+pub struct Tearing<'a> {
+    /// The live compliances, where cloths can tear; `None`: paper alone.
+    pub cloth: Option<&'a Compliances>,
+}
+
+impl Tearing<'_> {
+    /// Paper alone.
+    pub const PAPER: Tearing<'static> = Tearing { cloth: None };
+
+    /// Whether `edge` may not stretch now.
+    pub fn counts(&self, edge: &TearEdge) -> bool {
+        edge.paper || self.cloth.is_some_and(|c| c.holds(edge.slot))
+    }
+}
+
 /// The first instability a simulation ran into, when and where.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct StabilityMonitor {
     /// Simulated time (s) and kind of the first instability.
     pub first: Option<(f32, Instability)>,
@@ -67,8 +161,12 @@ pub struct StabilityMonitor {
     pub particle: Option<u32>,
     /// The model's part of the energy scale, measured at the first check.
     extent: Option<RestExtent>,
-    /// Since when (s), and where, paper has been torn without a break.
-    torn_since: Option<(f32, Option<u32>)>,
+    /// The edges that can tear, found at the first check.
+    tear_edges: Option<Vec<TearEdge>>,
+    /// Since when (s), and where, an edge has been torn without a break,
+    /// and whether a check of the state itself found it (a cloth's tear,
+    /// which a health summary does not measure and so cannot end).
+    torn_since: Option<(f32, Option<u32>, bool)>,
 }
 
 impl StabilityMonitor {
@@ -76,13 +174,22 @@ impl StabilityMonitor {
     /// kept. A tear counts once it has lasted [`TEAR_PERSISTENCE`]: a flap
     /// that snaps through stretches an edge for a frame or two and heals,
     /// a crumpled sheet stays torn.
-    pub fn check(&mut self, model: &Model, world: &World, particles: &Particles) {
+    pub fn check(
+        &mut self,
+        model: &Model,
+        world: &World,
+        particles: &Particles,
+        tearing: Tearing<'_>,
+    ) {
         if self.first.is_some() {
             return;
         }
         let extent = *self.extent.get_or_insert_with(|| RestExtent::of(model));
-        let found = instability_within(extent, model, world, particles);
-        self.record(world.time, found, || culprit(particles));
+        let edges = self
+            .tear_edges
+            .get_or_insert_with(|| tear_edges(model).collect());
+        let found = instability_within(extent, (model, edges, tearing), world, particles);
+        self.record((world.time, true), found, || culprit(particles));
     }
 
     /// Checks a [`Health`] summary measured where the state lives (a GPU
@@ -98,23 +205,26 @@ impl StabilityMonitor {
             world,
             Measures {
                 non_finite: &|| health.non_finite,
-                torn: &|| health.paper_strain > PAPER_TEAR_STRAIN,
+                torn: &|| health.tear > 1.0,
                 energy: &|| health.mechanical_energy,
             },
         );
-        self.record(health.time, found, || health.culprit);
+        self.record((health.time, false), found, || health.culprit);
     }
 
-    /// Keeps what was `found` at `time` (a tear only once it lasts).
+    /// Keeps what was `found` at `time` by a check of the state itself
+    /// (`full`) or of a health summary (a tear only once it lasts).
     fn record(
         &mut self,
-        time: f32,
+        (time, full): (f32, bool),
         found: Option<Instability>,
         culprit: impl FnOnce() -> Option<u32>,
     ) {
         match found {
             Some(Instability::Torn) => {
-                let (since, particle) = *self.torn_since.get_or_insert_with(|| (time, culprit()));
+                let (since, particle, _) = *self
+                    .torn_since
+                    .get_or_insert_with(|| (time, culprit(), full));
                 if time - since >= TEAR_PERSISTENCE {
                     self.first = Some((since, Instability::Torn));
                     self.particle = particle;
@@ -124,7 +234,11 @@ impl StabilityMonitor {
                 self.first = Some((time, kind));
                 self.particle = culprit();
             }
-            None => self.torn_since = None,
+            None => {
+                if full || self.torn_since.is_some_and(|(.., by_state)| !by_state) {
+                    self.torn_since = None;
+                }
+            }
         }
     }
 
@@ -141,7 +255,7 @@ impl StabilityMonitor {
             .map(|(time, kind)| (time, kind, self.particle))
             .or_else(|| {
                 self.torn_since
-                    .map(|(time, particle)| (time, Instability::Torn, particle))
+                    .map(|(time, particle, _)| (time, Instability::Torn, particle))
             })
     }
 }
@@ -160,14 +274,20 @@ fn culprit(particles: &Particles) -> Option<u32> {
     u32::try_from(index).ok()
 }
 
-/// The instability of a state, if any.
+/// The instability of a state, if any, with paper alone able to tear.
 pub fn instability(model: &Model, world: &World, particles: &Particles) -> Option<Instability> {
-    instability_within(RestExtent::of(model), model, world, particles)
+    let edges: Vec<_> = tear_edges(model).filter(|e| e.paper).collect();
+    instability_within(
+        RestExtent::of(model),
+        (model, &edges, Tearing::PAPER),
+        world,
+        particles,
+    )
 }
 
 fn instability_within(
     extent: RestExtent,
-    model: &Model,
+    (model, edges, tearing): (&Model, &[TearEdge], Tearing<'_>),
     world: &World,
     particles: &Particles,
 ) -> Option<Instability> {
@@ -177,7 +297,12 @@ fn instability_within(
         world,
         Measures {
             non_finite: &|| particles.has_non_finite(),
-            torn: &|| paper_is_torn(model, particles),
+            torn: &|| {
+                edges
+                    .par_iter()
+                    .with_min_len(MIN_TASK)
+                    .any(|e| tearing.counts(e) && e.tear(&particles.x) > 1.0)
+            },
             energy: &|| mechanical_energy(model, world, particles),
         },
     )
@@ -222,33 +347,12 @@ pub struct Health {
     pub non_finite: bool,
     /// [`mechanical_energy`] of the state (J).
     pub mechanical_energy: f32,
-    /// Largest strain (length over rest length, minus one) of an edge of
-    /// paper; zero without paper.
-    pub paper_strain: f32,
+    /// Largest length over tear length of a paper edge ([`TearEdge::tear`];
+    /// beyond 1, torn); zero without paper. A cloth's tear is checked on
+    /// the state itself ([`StabilityMonitor::check`]).
+    pub tear: f32,
     /// The first non-finite particle, else the fastest.
     pub culprit: Option<u32>,
-}
-
-/// Whether an edge of a paper part is stretched past [`PAPER_TEAR_STRAIN`].
-fn paper_is_torn(model: &Model, particles: &Particles) -> bool {
-    paper_edges(model).any(|e| {
-        let length = particles.x[e.v[0] as usize].distance(particles.x[e.v[1] as usize]);
-        length > (1.0 + PAPER_TEAR_STRAIN) * e.rest_length
-    })
-}
-
-/// The edges of the model's paper parts, whose stretch is a tear.
-pub fn paper_edges(model: &Model) -> impl Iterator<Item = &RestEdge> {
-    let papers: Vec<_> = model
-        .cloths
-        .iter()
-        .filter(|c| c.paper.is_some())
-        .map(|c| c.particles())
-        .collect();
-    model
-        .edges
-        .iter()
-        .filter(move |e| papers.iter().any(|r| r.contains(&(e.v[0] as usize))))
 }
 
 /// The energy a scene can plausibly hold (J): `M (|g| L + v^2 / 2)`, with `M`
@@ -366,10 +470,10 @@ mod tests {
         };
         particles.v[4] = Vec3::new(0.0, 300.0, 0.0);
         let mut monitor = StabilityMonitor::default();
-        monitor.check(&model, &world, &particles);
+        monitor.check(&model, &world, &particles, Tearing::PAPER);
         particles.v[0].x = f32::NAN;
         world.time = 1.0;
-        monitor.check(&model, &world, &particles);
+        monitor.check(&model, &world, &particles, Tearing::PAPER);
         assert_eq!(monitor.first, Some((0.5, Instability::Runaway)));
         assert_eq!(monitor.particle, Some(4), "the fast particle");
         assert_eq!(
@@ -389,7 +493,7 @@ mod tests {
             time: world.time,
             non_finite: p.has_non_finite(),
             mechanical_energy: mechanical_energy(&model, &world, p),
-            paper_strain: 0.0,
+            tear: 0.0,
             culprit: Some(4),
         };
         let calm = summary(&particles);
@@ -456,20 +560,20 @@ mod tests {
         let mut world = World::default();
         for _ in 0..10 {
             world.time += 1.0 / 60.0;
-            monitor.check(&model, &world, &particles);
+            monitor.check(&model, &world, &particles, Tearing::PAPER);
         }
         assert!(!monitor.is_unstable(), "a tear of 10 frames");
         for (x, rest) in particles.x.iter_mut().zip(&model.rest) {
             *x = *rest;
         }
-        monitor.check(&model, &world, &particles);
+        monitor.check(&model, &world, &particles, Tearing::PAPER);
         for (x, rest) in particles.x.iter_mut().zip(&model.rest) {
             *x = *rest * 1.3;
         }
         let start = world.time + 1.0 / 60.0;
         for _ in 0..20 {
             world.time += 1.0 / 60.0;
-            monitor.check(&model, &world, &particles);
+            monitor.check(&model, &world, &particles, Tearing::PAPER);
         }
         assert_eq!(monitor.first, Some((start, Instability::Torn)));
         // The same stretch of a cloth (not paper) is not a tear.
@@ -478,6 +582,88 @@ mod tests {
             *x = *rest * 1.3;
         }
         assert_eq!(instability(&cloth, &world, &particles), None);
+    }
+
+    /// The monitor's verdict on `model` held at `factor` times its rest
+    /// shape for half a second, with `tearing`.
+    fn held_stretched(model: &Model, factor: f32, tearing: Tearing<'_>) -> Option<Instability> {
+        let mut particles = Particles::new(model.rest.clone(), &model.mass);
+        for (x, rest) in particles.x.iter_mut().zip(&model.rest) {
+            *x = *rest * factor;
+        }
+        let (mut monitor, mut world) = (StabilityMonitor::default(), World::default());
+        for _ in 0..30 {
+            world.time += 1.0 / 60.0;
+            monitor.check(model, &world, &particles, tearing);
+        }
+        monitor.first.map(|(_, kind)| kind)
+    }
+
+    #[test]
+    fn a_cloth_that_may_not_stretch_tears_at_three_times_its_length() {
+        let (model, _) = sheet();
+        let mut compliances = Compliances::of(&model);
+        fn xpbd(c: &Compliances) -> Tearing<'_> {
+            Tearing { cloth: Some(c) }
+        }
+        assert_eq!(held_stretched(&model, 2.9, xpbd(&compliances)), None);
+        assert_eq!(
+            held_stretched(&model, 3.1, xpbd(&compliances)),
+            Some(Instability::Torn)
+        );
+        // Where other solvers stretch it, or its stretch compliance is
+        // not zero now, it may stretch.
+        assert_eq!(held_stretched(&model, 3.1, Tearing::PAPER), None);
+        let stretch = crate::constraint::ComplianceKind::Stretch;
+        *compliances.get_mut(0, stretch).unwrap() = 1e-3;
+        assert_eq!(held_stretched(&model, 3.1, xpbd(&compliances)), None);
+        // A strain limit adds to the tear strain, whatever the compliance.
+        let mut limited = Model::default();
+        let material = Material {
+            max_strain: Some(0.5),
+            stretch_compliance: 1e-3,
+            ..Material::default()
+        };
+        let grid = GridSpec::new(3, 3, [1.0, 1.0]).build();
+        limited.add_cloth("limited", grid, material, &[], false);
+        let compliances = Compliances::of(&limited);
+        assert_eq!(held_stretched(&limited, 3.4, xpbd(&compliances)), None);
+        assert_eq!(
+            held_stretched(&limited, 3.6, xpbd(&compliances)),
+            Some(Instability::Torn)
+        );
+    }
+
+    #[test]
+    fn a_health_summary_does_not_end_a_tear_it_cannot_see() {
+        // The GPU's summary measures paper alone; a cloth's tear, found
+        // on the state read back every fifth frame, lasts through it.
+        let (model, mut particles) = sheet();
+        for (x, rest) in particles.x.iter_mut().zip(&model.rest) {
+            *x = *rest * 3.1;
+        }
+        let compliances = Compliances::of(&model);
+        let tearing = Tearing {
+            cloth: Some(&compliances),
+        };
+        let (mut monitor, mut world) = (StabilityMonitor::default(), World::default());
+        for frame in 0..30 {
+            world.time += 1.0 / 60.0;
+            let summary = Health {
+                time: world.time,
+                mechanical_energy: mechanical_energy(&model, &world, &particles),
+                ..Health::default()
+            };
+            monitor.observe(&model, &world, &summary);
+            if frame % 5 == 0 {
+                monitor.check(&model, &world, &particles, tearing);
+            }
+        }
+        assert_eq!(
+            monitor.first,
+            Some((1.0 / 60.0, Instability::Torn)),
+            "torn since the first check"
+        );
     }
 
     #[test]

@@ -378,6 +378,36 @@ fn a_dragged_corner_pulls_the_cloth_along() {
     assert!(stretch <= 1.2, "max stretch while dragged: {stretch}");
 }
 
+/// An 8 x 8 cloth, 1 m wide, whose top corners scripted pins pull apart
+/// at 2 m/s each: 3 m apart after half a second.
+fn pulled_apart(stretch_compliance: f32) -> Scene {
+    let json = format!(
+        r#"{{ "name": "pulled", "fps": 60, "solver": {{ "substeps": 10 }},
+        "cloths": [ {{ "mesh": {{ "grid": {{ "resolution": [8, 8], "size": [1.0, 1.0], "orientation": "vertical", "center": [0.0, 1.0, 0.0] }} }},
+            "material": {{ "stretch_compliance": {stretch_compliance} }},
+            "pins": [ {{ "corners": ["top_left"], "motion": {{ "linear_velocity": [-2.0, 0.0, 0.0] }} }},
+                      {{ "corners": ["top_right"], "motion": {{ "linear_velocity": [2.0, 0.0, 0.0] }} }} ] }} ] }}"#
+    );
+    Scene::parse(&json, "pulled.json").unwrap()
+}
+
+#[test]
+fn a_cloth_pulled_to_three_times_its_width_is_torn_unless_it_may_stretch() {
+    // Inextensible: its corners' edges pass twice their length before
+    // the half second (3 times the width), counted once that has lasted
+    // 0.25 s.
+    let mut sim = build(&pulled_apart(0.0));
+    run(&mut sim, 40, 1.0 / 60.0);
+    let (at, kind) = sim.stability.first.expect("torn");
+    assert_eq!(kind, pleat::stability::Instability::Torn);
+    assert!(at > 0.0 && at < 0.5, "torn since {at} s");
+    // A compliant cloth stretches as it may.
+    let mut sim = build(&pulled_apart(1e-2));
+    run(&mut sim, 40, 1.0 / 60.0);
+    assert!(sim.metrics().max_stretch > 2.0, "stretched");
+    assert_eq!(sim.stability.first, None);
+}
+
 #[test]
 fn results_do_not_depend_on_thread_count() {
     let scene = load("flag.json");

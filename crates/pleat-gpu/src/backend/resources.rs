@@ -15,7 +15,7 @@ use super::{GpuBackend, PARTICLE_BYTES};
 use crate::buffers::{storage, zeroed};
 use crate::context::{GpuContext, GpuError};
 use crate::data::{self, Counts, GpuCollider, GpuPose, Range};
-use crate::health::{HealthInputs, HealthWatch, PaperEdges};
+use crate::health::{HealthInputs, HealthWatch, TearEdges};
 use crate::kernels::{workgroups, Kernels, BUILD_KERNELS, COMPLIANCE_SLOTS, UNIFORM_STRIDE};
 use crate::momentum::Momentum;
 use crate::timing::Timestamps;
@@ -407,8 +407,8 @@ impl GpuBackend {
         let hard_pins = hard.attachments().to_vec();
         let mut table = RangeTable::default();
         let whole = table.push(0, 0);
-        let paper = PaperEdges::of(model);
-        let paper_range = table.push(0, paper.len());
+        let tears = TearEdges::of(model);
+        let tear_range = table.push(0, tears.len());
         let grab_reach = (settings.kind != SolverKind::JacobiPbd).then(|| {
             let reach = GrabReach::new(model);
             (
@@ -550,8 +550,8 @@ impl GpuBackend {
             &kernels,
             HealthInputs {
                 model,
-                paper: &paper,
-                ranges: (&ranges, paper_range.0),
+                tears: &tears,
+                ranges: (&ranges, tear_range.0),
                 contact_counts: buffers.self_contact.as_ref().map(|c| &c.candidates),
             },
         );

@@ -9,7 +9,8 @@
 //! the hinges of paper, whose stiffness is per unit length); entry 0 is
 //! always 1, so a constraint in slot 0 keeps the compliance it was built with.
 
-use crate::model::Model;
+use super::long_range::ALWAYS_HELD;
+use crate::model::{ClothPart, Model};
 
 /// What a live compliance applies to, within one cloth.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -70,6 +71,28 @@ impl Compliances {
     /// Cloth `cloth`'s compliance of `kind`, if the cloth exists.
     pub fn get(&self, cloth: usize, kind: ComplianceKind) -> Option<f32> {
         self.values.get(Self::slot(cloth, kind) as usize).copied()
+    }
+
+    /// The compliance in `slot` as the table holds it (negative as zero),
+    /// if the slot exists.
+    pub fn at(&self, slot: u32) -> Option<f32> {
+        self.values.get(slot as usize).map(|v| v.max(0.0))
+    }
+
+    /// The slot that decides whether cloth `index`'s stretch is held (it
+    /// is while its live stretch compliance is zero), or [`ALWAYS_HELD`]
+    /// where a strain limit holds it whatever the compliance.
+    pub fn held_slot(cloth: &ClothPart, index: usize) -> u32 {
+        match cloth.material.max_strain {
+            Some(_) => ALWAYS_HELD,
+            None => Self::slot(index, ComplianceKind::Stretch),
+        }
+    }
+
+    /// Whether `slot` ([`Compliances::held_slot`]) holds its cloth's
+    /// stretch now.
+    pub fn holds(&self, slot: u32) -> bool {
+        slot == ALWAYS_HELD || self.at(slot) == Some(0.0)
     }
 
     /// Cloth `cloth`'s compliance of `kind`, to change from the next step

@@ -7,7 +7,7 @@
 //! ([`super::hierarchy`]): on a cloth other than paper whose stretch
 //! compliance is zero now, or that has a strain limit.
 
-use super::hierarchy::{held_slot, strain_scale};
+use super::hierarchy::strain_scale;
 use crate::constraint::{ComplianceKind, Compliances, ALWAYS_HELD};
 use crate::model::Model;
 use glam::{Vec3, Vec4};
@@ -18,7 +18,7 @@ const MIN_TASK: usize = 4096;
 
 /// Each particle's rest position and reach factor (w: one plus its cloth's
 /// strain limit; 0 on paper), and its cloth's compliance slot that decides
-/// whether the reach holds ([`held_slot`]), which tells the cloths apart.
+/// whether the reach holds ([`Compliances::held_slot`]), which tells the cloths apart.
 #[derive(Clone, Debug, Default)]
 pub struct GrabReach {
     /// Rest position (xyz) and reach factor (w), per particle.
@@ -42,7 +42,7 @@ impl GrabReach {
                 Some(_) => 0.0,
             };
             let stretch = Compliances::slot(index, ComplianceKind::Stretch);
-            let always = (held_slot(cloth, index) == ALWAYS_HELD) as u32;
+            let always = (Compliances::held_slot(cloth, index) == ALWAYS_HELD) as u32;
             for i in cloth.particles() {
                 reach.rest[i].w = scale;
                 reach.cloth[i] = [stretch, always];

@@ -49,7 +49,7 @@
 
 use super::momentum::FreeParts;
 use super::parallel::ColoredConstraints;
-use crate::constraint::{ComplianceKind, Compliances, LongRangeLimit, Substep, ALWAYS_HELD};
+use crate::constraint::{Compliances, LongRangeLimit, Substep};
 use crate::model::{ClothPart, Model};
 use glam::Vec3;
 use rayon::prelude::*;
@@ -141,7 +141,7 @@ impl Hierarchy {
         let cloths = model.cloths.iter().enumerate();
         for (index, cloth) in cloths.filter(|(_, c)| c.paper.is_none()) {
             let is_free = free.ranges().contains(&cloth.particles());
-            let slot = held_slot(cloth, index);
+            let slot = Compliances::held_slot(cloth, index);
             let built = cloth_levels(cloth, &model.rest, inv_mass, (slot, is_free));
             for (depth, (limits, prolongation)) in built.into_iter().enumerate() {
                 if levels.len() == depth {
@@ -209,16 +209,6 @@ impl Hierarchy {
                 x[p.particle as usize] += d;
             }
         }
-    }
-}
-
-/// The compliance slot that decides whether a cloth's limits hold: its
-/// live stretch compliance (they hold while it is zero), or
-/// [`ALWAYS_HELD`] where it has a strain limit.
-pub(super) fn held_slot(cloth: &ClothPart, index: usize) -> u32 {
-    match cloth.material.max_strain {
-        Some(_) => ALWAYS_HELD,
-        None => Compliances::slot(index, ComplianceKind::Stretch),
     }
 }
 
@@ -546,6 +536,7 @@ fn limits_of(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::constraint::{ComplianceKind, ALWAYS_HELD};
     use crate::material::Material;
     use crate::mesh::GridSpec;
     use crate::model::Pin;
