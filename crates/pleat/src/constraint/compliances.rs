@@ -9,7 +9,6 @@
 //! the hinges of paper, whose stiffness is per unit length); entry 0 is
 //! always 1, so a constraint in slot 0 keeps the compliance it was built with.
 
-use super::long_range::ALWAYS_HELD;
 use crate::model::{ClothPart, Model};
 
 /// What a live compliance applies to, within one cloth.
@@ -31,6 +30,10 @@ pub enum ComplianceKind {
 
 /// Kinds per cloth.
 const KINDS: usize = 5;
+
+/// The slot of a stretch that holds whatever the compliances (a cloth
+/// with a strain limit, paper): no table entry.
+pub const ALWAYS_HELD: u32 = u32::MAX;
 
 /// The table a constraint in slot 0 reads: its compliance as built.
 pub const AS_BUILT: &[f32] = &[1.0];

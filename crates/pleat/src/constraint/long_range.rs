@@ -6,6 +6,7 @@
 //! (a cloth folds and crumples freely; only the pass's own squeeze is
 //! undone) and, where the path bends, leaves the slack that shear needs.
 
+use super::compliances::ALWAYS_HELD;
 use super::positions::Positions;
 use super::projection::{sealed::Sealed, Constraint, Substep};
 use glam::Vec3;
@@ -34,9 +35,6 @@ pub struct LongRangeLimit {
     /// ([`crate::solver::hierarchy`]).
     pub floor: f32,
 }
-
-/// The `slot` of a limit that holds whatever the compliances.
-pub const ALWAYS_HELD: u32 = u32::MAX;
 
 impl LongRangeLimit {
     /// Whether the limit holds in this substep: its cloth is inextensible

@@ -29,12 +29,12 @@ pub mod xpbd;
 
 pub use attachment::{Attachment, Grab};
 pub use bending::DihedralBending;
-pub use compliances::{ComplianceKind, Compliances};
+pub use compliances::{ComplianceKind, Compliances, ALWAYS_HELD};
 pub use distance::DistanceConstraint;
 pub use fold_drive::FoldDrive;
 pub use hinge::OrigamiHinge;
 pub use isometric_bending::IsometricBending;
-pub use long_range::{LongRangeLimit, ALWAYS_HELD};
+pub use long_range::LongRangeLimit;
 pub use positions::Positions;
 pub use projection::{project_once, Constraint, Substep, MAX_PARTICLES};
 pub use shape_matching::{PairShape, ShapeMatching, TriangleShape};
