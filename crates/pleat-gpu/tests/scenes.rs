@@ -456,15 +456,15 @@ fn step_read(sim: &mut Simulation, scene: &pleat::scene::Scene, frames: u32) {
 fn a_torn_cloth_is_flagged_on_the_gpu_when_read_back() {
     let torn = pulled_apart(0.0);
     let mut sim = gpu(&torn);
-    step_read(&mut sim, &torn, 40);
+    step_read(&mut sim, &torn, 60);
     let (at, kind) = sim.stability.first.expect("torn");
     assert_eq!(kind, Instability::Torn);
-    assert!(at > 0.0 && at < 0.5, "torn since {at} s");
+    assert!(at > 0.0 && at < 0.75, "torn since {at} s");
     // Softened live, the same cloth may stretch.
     let mut sim = gpu(&torn);
     let stretch = sim.compliances.get_mut(0, ComplianceKind::Stretch).unwrap();
     *stretch = 1e-2;
-    step_read(&mut sim, &torn, 40);
+    step_read(&mut sim, &torn, 60);
     assert!(sim.metrics().max_stretch > 2.0, "stretched");
     assert_eq!(sim.stability.first, None);
 }

@@ -393,17 +393,17 @@ fn pulled_apart(stretch_compliance: f32) -> Scene {
 
 #[test]
 fn a_cloth_pulled_to_three_times_its_width_is_torn_unless_it_may_stretch() {
-    // Inextensible: its corners' edges pass twice their length before
-    // the half second (3 times the width), counted once that has lasted
-    // 0.25 s.
+    // Inextensible: more than 1 % of its edges pass three times their
+    // length (the width is 3 m at 0.5 s, 4 m at 0.75 s), counted once
+    // that has lasted 0.25 s.
     let mut sim = build(&pulled_apart(0.0));
-    run(&mut sim, 40, 1.0 / 60.0);
+    run(&mut sim, 60, 1.0 / 60.0);
     let (at, kind) = sim.stability.first.expect("torn");
     assert_eq!(kind, pleat::stability::Instability::Torn);
-    assert!(at > 0.0 && at < 0.5, "torn since {at} s");
+    assert!(at > 0.0 && at < 0.75, "torn since {at} s");
     // A compliant cloth stretches as it may.
     let mut sim = build(&pulled_apart(1e-2));
-    run(&mut sim, 40, 1.0 / 60.0);
+    run(&mut sim, 60, 1.0 / 60.0);
     assert!(sim.metrics().max_stretch > 2.0, "stretched");
     assert_eq!(sim.stability.first, None);
 }
