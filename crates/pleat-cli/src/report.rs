@@ -46,7 +46,9 @@ pub struct Report {
     /// Simulated time (s) of the first instability, if any.
     pub unstable_at: Option<f32>,
     /// What it was: `non_finite`, `runaway` (energy) or `torn` (paper
-    /// stretched past 25 %, an inextensible cloth to three times its length).
+    /// stretched past 25 %, an inextensible cloth blown apart:
+    /// [`pleat::stability::CLOTH_TEAR_SHARE`] of its edges past three
+    /// times their length).
     pub unstable_kind: Option<&'static str>,
     /// Where it showed: the first non-finite particle, else the fastest.
     pub unstable_particle: Option<u32>,
