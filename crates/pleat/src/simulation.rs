@@ -131,9 +131,7 @@ impl Simulation {
         if !self.synced {
             self.backend.download(&mut self.particles);
             self.synced = true;
-            let tearing = tearing(&self.settings, &self.compliances);
-            self.stability
-                .check(&self.model, &self.world, &self.particles, tearing);
+            self.check_stability();
         }
         &self.particles
     }
@@ -153,9 +151,7 @@ impl Simulation {
         self.observe_health();
         if !self.synced && self.backend.try_download(&mut self.particles) {
             self.synced = true;
-            let tearing = tearing(&self.settings, &self.compliances);
-            self.stability
-                .check(&self.model, &self.world, &self.particles, tearing);
+            self.check_stability();
         }
         self.synced
     }
@@ -229,9 +225,7 @@ impl Simulation {
         self.world.time += frame_dt;
         self.frames_stepped += 1;
         if self.backend.steps_in_place() {
-            let tearing = tearing(&self.settings, &self.compliances);
-            self.stability
-                .check(&self.model, &self.world, &self.particles, tearing);
+            self.check_stability();
         } else {
             self.synced = false;
             self.observe_health();
@@ -268,12 +262,15 @@ impl Simulation {
         m.unstable |= self.stability.verdict().is_some();
         m
     }
-}
 
-/// The edges that count as torn: cloths' too where the XPBD solver holds
-/// their stretch by their live compliances.
-fn tearing<'a>(settings: &SolverSettings, compliances: &'a Compliances) -> Tearing<'a> {
-    Tearing {
-        cloth: (settings.kind == SolverKind::Xpbd).then_some(compliances),
+    /// Checks the state in `particles` for an instability. The edges that
+    /// count as torn are cloths' too where the XPBD solver holds their
+    /// stretch by their live compliances.
+    fn check_stability(&mut self) {
+        let tearing = Tearing {
+            cloth: (self.settings.kind == SolverKind::Xpbd).then_some(&self.compliances),
+        };
+        self.stability
+            .check(&self.model, &self.world, &self.particles, tearing);
     }
 }
