@@ -2,7 +2,8 @@
 // on the GPU so that no frame waits on a read back: the build's kernels
 // (contact_grid.wgsl) run on theirs when a particle has moved half the
 // margin since the last build and on none otherwise; the solve
-// (self_contact.wgsl) on as many as the candidates need.
+// (self_contact.wgsl) on as many as the candidates need. After a frame's
+// substeps `choose_margin` sets the margin of the next frame.
 
 // args: [0, 3 BUILD_KERNELS) the build's counts, then the solve's three,
 // then the build's counts when it runs (written once by the host).
@@ -28,6 +29,7 @@ fn arm_build() {
         atomicStore(&candidates[FOUND], 0u);
         atomicStore(&candidates[FRESH], 1u);
         atomicAdd(&candidates[BUILDS], 1u);
+        atomicAdd(&candidates[FRAME_BUILDS], 1u);
     }
     // The next substep's range of displacements, empty.
     for (var axis = 0u; axis < 3u; axis++) {
@@ -52,4 +54,59 @@ fn arm_solve() {
     args[solve] = min(groups, MAX_GROUPS);
     args[solve + 1u] = max((groups + MAX_GROUPS - 1u) / MAX_GROUPS, 1u);
     args[solve + 2u] = 1u;
+}
+
+// The margin, chosen frame by frame on the GPU, so that a run's path does
+// not depend on when its counts reach the host. Candidate pairs found
+// within the thickness plus a margin are kept until a particle has moved
+// half the margin (contact_grid.wgsl): that pays where builds are rare,
+// but a wider search costs every build more, and a fine, restless cloth
+// (a 1024 x 1024 sheet swinging) moves that far every substep anyway. So
+// the margin is dropped after a frame that built at nearly every
+// substep, and tried again a while later: soon at first (a cloth that has
+// fallen comes to rest), then twice as late after each try that is
+// dropped again at once.
+
+// Builds per substep above which the margin is dropped.
+const BUSY: f32 = 0.7;
+// Frames without the margin before the first try, and the most.
+const FIRST_WAIT: u32 = 15u;
+const LONGEST_WAIT: u32 = 480u;
+// A try dropped again within this many frames has failed.
+const FAILED_TRY: u32 = 10u;
+
+// Run with the parameters of the frame's last substep; a new margin makes
+// the candidates stale (a list found without the margin does not hold
+// with it).
+@compute @workgroup_size(1)
+fn choose_margin() {
+    let substeps = params.substep + 1u;
+    let busy = f32(atomicExchange(&candidates[FRAME_BUILDS], 0u)) > BUSY * f32(substeps);
+    var dropped = atomicLoad(&candidates[DROPPED]);
+    var since_try = atomicLoad(&candidates[SINCE_TRY]);
+    var wait = max(atomicLoad(&candidates[WAIT]), FIRST_WAIT);
+    var changed = false;
+    if dropped == 0u {
+        if busy {
+            let failed = since_try != 0u && since_try - 1u < FAILED_TRY;
+            wait = select(FIRST_WAIT, min(2u * wait, LONGEST_WAIT), failed);
+            dropped = 1u;
+            changed = true;
+        } else if since_try != 0u {
+            since_try += 1u;
+        }
+    } else {
+        dropped += 1u;
+        if dropped - 1u >= wait {
+            dropped = 0u;
+            since_try = 1u;
+            changed = true;
+        }
+    }
+    atomicStore(&candidates[DROPPED], dropped);
+    atomicStore(&candidates[SINCE_TRY], since_try);
+    atomicStore(&candidates[WAIT], wait);
+    if changed {
+        atomicStore(&candidates[FRESH], 0u);
+    }
 }

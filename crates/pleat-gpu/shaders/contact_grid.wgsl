@@ -40,8 +40,18 @@ const SCAN: u32 = 256u;
 
 var<workgroup> scan_scratch: array<u32, 256>;
 
-fn cell_of(p: vec3<f32>) -> vec3<i32> {
-    return vec3<i32>(floor(p / params.contact_cell));
+// The margin in use: none while dropped (contact_dispatch.wgsl's
+// `choose_margin`); the hash grid's cells shrink with it.
+fn margin() -> f32 {
+    return select(params.contact_margin, 0.0, atomicLoad(&candidates[DROPPED]) != 0u);
+}
+
+fn cell_size() -> f32 {
+    return params.contact_cell - params.contact_margin + margin();
+}
+
+fn cell_of(p: vec3<f32>, size: f32) -> vec3<i32> {
+    return vec3<i32>(floor(p / size));
 }
 
 fn bucket(c: vec3<i32>) -> u32 {
@@ -110,7 +120,7 @@ fn check(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups)
         middle[axis] = 0.5 * low + 0.5 * high;
     }
     let off = moved(i) - middle;
-    let half = 0.5 * params.contact_margin;
+    let half = 0.5 * margin();
     // Not `<=`: a position that is NaN moves on too.
     if !(dot(off, off) <= half * half) {
         atomicStore(&candidates[FRESH], 0u);
@@ -129,7 +139,7 @@ fn clear(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups)
 fn count(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let i = flat_index(gid, groups);
     if i < params.particle_count {
-        atomicAdd(&grid[bucket(cell_of(position(i)))], 1u);
+        atomicAdd(&grid[bucket(cell_of(position(i), cell_size()))], 1u);
     }
 }
 
@@ -197,7 +207,7 @@ fn scan_add(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgrou
 fn scatter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let i = flat_index(gid, groups);
     if i < params.particle_count {
-        let b = bucket(cell_of(position(i)));
+        let b = bucket(cell_of(position(i), cell_size()));
         let slot = atomicLoad(&grid[b]) + atomicAdd(&grid[params.contact_buckets + b], 1u);
         atomicStore(&grid[2u * params.contact_buckets + slot], i);
     }
@@ -231,7 +241,7 @@ fn rest_distance_to_triangle(home: vec4<f32>, v: vec3<u32>) -> f32 {
 // Takes triangle t as particle i's candidate if it lies within thickness +
 // margin of i, unless it is of i's cloth and closer to i at rest than the
 // exclusion radius.
-fn consider_triangle(i: u32, home: vec4<f32>, t: u32) {
+fn consider_triangle(i: u32, home: vec4<f32>, t: u32, reach: f32) {
     let v = triangle(t);
     if i == v.x || i == v.y || i == v.z {
         return;
@@ -241,7 +251,6 @@ fn consider_triangle(i: u32, home: vec4<f32>, t: u32) {
     let b = position(v.y);
     let c = position(v.z);
     let w = closest_barycentric(p, a, b, c);
-    let reach = params.contact_thickness + params.contact_margin;
     let d = p - (w.x * a + w.y * b + w.z * c);
     if dot(d, d) < reach * reach && (rest[v.x].w != home.w || rest_distance_to_triangle(home, v) >= params.contact_exclusion) {
         push(i, t);
@@ -264,8 +273,9 @@ fn find(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) 
     let p = position(i);
     rest[params.particle_count + i] = vec4<f32>(p, 0.0);
     let home = rest[i];
-    let cell = cell_of(p);
-    let reach = params.contact_thickness + params.contact_margin;
+    let size = cell_size();
+    let cell = cell_of(p, size);
+    let reach = params.contact_thickness + margin();
     let owned_start = 3u * params.triangle_count;
     let owned = owned_start + params.particle_count + 1u;
     for (var dz = -1; dz <= 1; dz++) {
@@ -278,14 +288,14 @@ fn find(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) 
                 for (var s = first; s < last; s++) {
                     let j = atomicLoad(&grid[sorted + s]);
                     let d = position(j) - p;
-                    if any(cell_of(position(j)) != near) || dot(d, d) > params.contact_cell * params.contact_cell || rest_near(home, j) {
+                    if any(cell_of(position(j), size) != near) || dot(d, d) > size * size || rest_near(home, j) {
                         continue;
                     }
                     if j > i && dot(d, d) < reach * reach {
                         push(i, j | PARTICLE_PAIR);
                     }
                     for (var a = topology[owned_start + j]; a < topology[owned_start + j + 1u]; a++) {
-                        consider_triangle(i, home, topology[owned + a]);
+                        consider_triangle(i, home, topology[owned + a], reach);
                     }
                 }
             }

@@ -73,8 +73,9 @@ pub struct SelfContactKernels {
     /// `bound` and `check`, then the build's in the order they run:
     /// clear, count, scan_blocks, scan_sums, scan_add, scatter, find.
     pub grid: [wgpu::ComputePipeline; 2 + BUILD_KERNELS],
-    /// The indirect dispatches' counts: arm_build, arm_solve.
-    pub arm: [wgpu::ComputePipeline; 2],
+    /// The indirect dispatches' counts, arm_build and arm_solve, and the
+    /// margin after a frame, choose_margin.
+    pub arm: [wgpu::ComputePipeline; 3],
     /// The solve: contacts, the same counting those that acted, apply.
     pub solve: [wgpu::ComputePipeline; 3],
 }

@@ -126,11 +126,12 @@ pub const CONTACT_GRID: Module = module!(
         "find"
     ]
 );
-/// The self-contacts' indirect dispatch counts: the build's and the solve's.
+/// The self-contacts' indirect dispatch counts, the build's and the
+/// solve's, and the margin chosen after each frame.
 pub const CONTACT_DISPATCH: Module = module!(
     "contact_dispatch",
     [CONTACT_LIB],
-    ["arm_build", "arm_solve"]
+    ["arm_build", "arm_solve", "choose_margin"]
 );
 /// Self-contacts' Jacobi solve over the candidates.
 pub const SELF_CONTACT: Module = module!(

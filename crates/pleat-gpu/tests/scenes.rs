@@ -337,6 +337,22 @@ fn self_contacts_are_bit_identical_between_runs() {
     }
 }
 
+/// The self-contacts decide their margin on the GPU: a run read back
+/// every frame (its counts come back at once) and one read back only at
+/// the end (its counts come late) take the same path, the cloth landing
+/// on itself as in fold_onto_itself.
+#[test]
+fn self_contacts_do_not_depend_on_when_results_are_read() {
+    let scene = scene_file("fold_onto_itself.json");
+    let (mut read_often, mut read_once) = (gpu(&scene), gpu(&scene));
+    for _ in 0..60 {
+        run(&mut read_often, &scene, 1);
+    }
+    run(&mut read_once, &scene, 60);
+    assert!(read_often.stages.self_contact_builds > 0);
+    assert!(read_often.particles.x == read_once.particles.x);
+}
+
 /// Two weightless 16 x 16 sheets 3.5 cm apart with a thickness of 3 cm,
 /// three edge lengths: each particle finds about a hundred pairs in the
 /// other sheet, several times the 16 a particle the GPU's candidates hold

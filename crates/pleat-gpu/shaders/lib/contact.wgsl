@@ -13,7 +13,11 @@
 // and the contacts that acted, summed over substeps, the builds, and the
 // most pairs a build found that did not all fit (0: none overflowed);
 // then the least and the greatest displacement since the build along each
-// axis (as keys ordered as the floats are).
+// axis (as keys ordered as the floats are); then the margin's state
+// (contact_dispatch.wgsl's `choose_margin`): the builds of the frame so
+// far, the frames since the margin was dropped plus one (0 while it is in
+// use), the frames since it was last tried again plus one (0: never), and
+// the frames to go without it before the next try (0: the first wait).
 const FOUND: u32 = 0u;
 const FRESH: u32 = 1u;
 const SOLVED: u32 = 2u;
@@ -22,7 +26,11 @@ const BUILDS: u32 = 4u;
 const OVERFLOWED: u32 = 5u;
 const LEAST: u32 = 6u;
 const GREATEST: u32 = 9u;
-const HEADER: u32 = 12u;
+const FRAME_BUILDS: u32 = 12u;
+const DROPPED: u32 = 13u;
+const SINCE_TRY: u32 = 14u;
+const WAIT: u32 = 15u;
+const HEADER: u32 = 16u;
 // A candidate's second word names a particle, not a triangle.
 const PARTICLE_PAIR: u32 = 0x80000000u;
 

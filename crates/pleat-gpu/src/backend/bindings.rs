@@ -270,7 +270,7 @@ impl GpuBackend {
         let Some(found) = counts.map(|c| c.overflowed).filter(|&found| found > 0) else {
             return;
         };
-        if !contact.grow(&self.context.device, found) {
+        if !contact.grow((&self.context.device, &self.context.queue), found) {
             if !contact.told_full {
                 contact.told_full = true;
                 eprintln!(

@@ -28,7 +28,6 @@ use pleat::solver::{SolverSettings, StageTimes};
 use pleat::{Backend, Particles, World};
 
 mod bindings;
-mod contact_margin;
 pub(crate) mod persistent;
 mod projection;
 mod readback;
@@ -36,7 +35,6 @@ mod record;
 mod resources;
 
 use bindings::Stages;
-use contact_margin::ContactMargin;
 use record::FrameData;
 use resources::{KernelBuffers, PerSubstep};
 
@@ -48,8 +46,6 @@ pub struct GpuBackend {
     context: GpuContext,
     kernels: Kernels,
     counts: Counts,
-    /// The self-contacts' margin, where there are self-contacts.
-    contact_margin: Option<ContactMargin>,
     constraint_count: usize,
     pos: wgpu::Buffer,
     prev: wgpu::Buffer,

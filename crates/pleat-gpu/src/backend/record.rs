@@ -5,7 +5,6 @@
 use super::bindings::{SelfContactStage, Stage, StrainLimitStages};
 use super::GpuBackend;
 use crate::data::{self, GpuPose, Params};
-use crate::health::ContactCounts;
 use crate::kernels::{workgroups, BUILD_KERNELS, COMPLIANCE_SLOTS, UNIFORM_STRIDE};
 use crate::timing::TimedStage;
 use pleat::collide::ColliderPose;
@@ -45,6 +44,22 @@ impl SelfContactStage {
             n += self.indirect(pass, kernel, slot);
         }
         n
+    }
+
+    /// The margin of the next frame chosen on the GPU, with the state bound
+    /// with the frame's last parameters at `params_offset` (one dispatch).
+    fn record_margin(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        (state, params_offset): (&wgpu::BindGroup, u32),
+    ) -> u32 {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("contact margin"),
+            timestamp_writes: None,
+        });
+        pass.set_bind_group(0, state, &[params_offset]);
+        pass.set_bind_group(1, &self.arm, &[0]);
+        over_particles(&mut pass, &self.kernels.arm[2], 1)
     }
 
     /// The narrow phase: the CPU backend's Jacobi iterations over
@@ -118,7 +133,6 @@ impl GpuBackend {
             stages.self_contact_builds += c.builds;
         }
         self.grow_candidates(counts);
-        self.choose_contact_margin(settings.substeps, counts);
         self.hold_fold(control.fold.held);
         let substeps = self.write_frame(world, (settings, compliances), control);
         let persistent = self.runs_persistent(world, control, substeps);
@@ -162,6 +176,9 @@ impl GpuBackend {
             }
         }
         let last = (substeps - 1) * UNIFORM_STRIDE as u32;
+        if let Some(contact) = &self.stages.self_contact {
+            self.dispatches += contact.record_margin(&mut encoder, (&self.stages.state, last));
+        }
         self.dispatches += self.health.record(
             &mut encoder,
             (&self.stages.state, last),
@@ -178,23 +195,6 @@ impl GpuBackend {
         }
         // Frees the resources of finished frames without waiting.
         let _ = self.context.device.poll(wgpu::PollType::Poll);
-    }
-
-    /// Sets the self-contacts' margin for this frame of `substeps`
-    /// substeps from the counts that came back; a new margin makes the
-    /// candidates stale.
-    fn choose_contact_margin(&mut self, substeps: u32, counts: Option<ContactCounts>) {
-        let (Some(margin), Some(contact)) = (&mut self.contact_margin, &self.buffers.self_contact)
-        else {
-            return;
-        };
-        if margin.frame(substeps, counts) {
-            (self.counts.contact_margin, self.counts.contact_cell) = margin.current();
-            let fresh = 4;
-            self.context
-                .queue
-                .write_buffer(&contact.candidates, fresh, bytemuck::bytes_of(&0u32));
-        }
     }
 
     /// Whether the frame runs as the persistent kernel's one dispatch: the

@@ -5,7 +5,6 @@
 //! fold's strain limits change.
 
 use super::bindings::Stages;
-use super::contact_margin::ContactMargin;
 use super::persistent::{self, Persistent};
 use super::projection::{
     jacobi_projection, xpbd_projection, ConstraintBuffers, ConstraintKind, Projection,
@@ -112,14 +111,13 @@ pub(super) struct SelfContactBuffers {
     pub(super) rest: wgpu::Buffer,
     /// Fixed-point corrections and contact counts per particle.
     pub(super) accum: wgpu::Buffer,
-    /// Header (pairs found, fresh, builds), then the pairs.
+    /// Header (pairs found, fresh, counters, the margin's state), then the pairs.
     pub(super) candidates: wgpu::Buffer,
     /// The indirect dispatches' workgroup counts: the build's, the solve's,
     /// then the build's when it runs.
     pub(super) args: wgpu::Buffer,
-    /// Hash grid cell size with the margin, and without.
+    /// Hash grid cell size with the margin (less the margin without it).
     pub(super) cell: f32,
-    pub(super) narrow_cell: f32,
     /// Hash table size: a power of two, a multiple of the scan block.
     pub(super) buckets: u32,
     pub(super) margin: f32,
@@ -165,7 +163,10 @@ const CONTACT_MARGIN: f32 = 0.75;
 /// Candidate pairs per particle kept at most.
 const CANDIDATES_PER_PARTICLE: u64 = 16;
 /// Words of the candidates' header (`HEADER` in lib/contact.wgsl).
-const CANDIDATE_HEADER: u64 = 12;
+const CANDIDATE_HEADER: u64 = 16;
+/// The first word of the margin's state in that header (`FRAME_BUILDS`),
+/// and its words.
+const MARGIN_STATE: (u64, u64) = (12, 4);
 
 impl SelfContactBuffers {
     pub(super) fn new(
@@ -204,7 +205,6 @@ impl SelfContactBuffers {
             args: indirect_args(device, build_workgroups(n, buckets)),
             candidates: candidates(device, capacity),
             cell: narrow_cell + margin,
-            narrow_cell,
             buckets,
             margin,
             exclusion,
@@ -217,9 +217,13 @@ impl SelfContactBuffers {
     /// After a build found `found` pairs, more than the candidates hold
     /// (those beyond were not solved), a buffer for [`GROWTH`] times as
     /// many (twice the last at least), up to the largest a binding takes,
-    /// zeroed so that the next substep builds afresh. False when it is
-    /// that large already.
-    pub(super) fn grow(&mut self, device: &wgpu::Device, found: u64) -> bool {
+    /// zeroed so that the next substep builds afresh but for the margin's
+    /// state, carried over. False when it is that large already.
+    pub(super) fn grow(
+        &mut self,
+        (device, queue): (&wgpu::Device, &wgpu::Queue),
+        found: u64,
+    ) -> bool {
         let wanted = (found as f64 * GROWTH) as u64;
         let capacity = wanted
             .max(2 * u64::from(self.capacity))
@@ -227,7 +231,12 @@ impl SelfContactBuffers {
         if capacity <= u64::from(self.capacity) {
             return false;
         }
-        self.candidates = candidates(device, capacity);
+        let grown = candidates(device, capacity);
+        let mut encoder = device.create_command_encoder(&Default::default());
+        let (first, words) = MARGIN_STATE;
+        encoder.copy_buffer_to_buffer(&self.candidates, 4 * first, &grown, 4 * first, 4 * words);
+        queue.submit([encoder.finish()]);
+        self.candidates = grown;
         self.capacity = capacity as u32;
         true
     }
@@ -579,10 +588,6 @@ impl GpuBackend {
             frame_data: FrameData::default(),
             stages,
             kernels,
-            contact_margin: buffers
-                .self_contact
-                .as_ref()
-                .map(|c| ContactMargin::new((c.margin, c.cell), (0.0, c.narrow_cell))),
             counts,
             constraint_count,
             pos,
