@@ -1,5 +1,6 @@
 //! Buffers and bind group entries as every kernel's set-up makes them.
 
+use crate::context::{GpuContext, GpuError};
 use bytemuck::Pod;
 use wgpu::util::DeviceExt;
 
@@ -43,4 +44,18 @@ pub fn zeroed(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     })
+}
+
+/// Refuses a buffer larger than one binding may be.
+pub fn check_size(context: &GpuContext, bytes: u64, what: &str) -> Result<(), GpuError> {
+    let limit = context.device.limits().max_storage_buffer_binding_size;
+    if bytes > limit {
+        return Err(GpuError::TooLarge(format!(
+            "the {what} take {} MiB, more than the {} MiB one buffer may hold on {}",
+            bytes >> 20,
+            limit >> 20,
+            context.adapter
+        )));
+    }
+    Ok(())
 }

@@ -1,8 +1,8 @@
 //! Pipelines and bind groups: every kernel with its buffers bound
 //! ([`Stages`]), rebuilt when the per-substep buffers grow.
 
+use super::kernel_buffers::{KernelBuffers, PerSubstep};
 use super::projection::ConstraintKind;
-use super::resources::{KernelBuffers, PerSubstep};
 use super::GpuBackend;
 use crate::buffers::{entry, sized_entry, zeroed};
 use crate::data::{Params, Range};

@@ -28,15 +28,16 @@ use pleat::solver::{SolverSettings, StageTimes};
 use pleat::{Backend, Particles, World};
 
 mod bindings;
+mod kernel_buffers;
 pub(crate) mod persistent;
 mod projection;
+mod ranges;
 mod readback;
 mod record;
 mod resources;
 
 use bindings::Stages;
-use record::FrameData;
-use resources::{KernelBuffers, PerSubstep};
+use kernel_buffers::{FrameData, KernelBuffers, PerSubstep};
 
 /// Bytes of one particle in the state buffers (`vec4<f32>`).
 const PARTICLE_BYTES: u64 = 16;

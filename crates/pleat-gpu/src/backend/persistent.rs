@@ -14,7 +14,7 @@
 //! parameters hold).
 
 use super::projection::{ConstraintBuffers, ConstraintKind};
-use super::resources::RangeTable;
+use super::ranges::RangeTable;
 use crate::buffers::entry;
 use crate::data::Range;
 use crate::kernels::{storage, COMPLIANCE_SLOTS, UNIFORM_STRIDE};

@@ -4,8 +4,8 @@
 //! Jacobi PBD's corrections and gather, each with the dispatches of its
 //! colours in the range table.
 
-use super::resources::{check_size, RangeTable};
-use crate::buffers::{storage, zeroed};
+use super::ranges::RangeTable;
+use crate::buffers::{check_size, storage, zeroed};
 use crate::context::{GpuContext, GpuError};
 use crate::data::{Attachment, Range};
 use bytemuck::Pod;

@@ -3,6 +3,7 @@
 //! recorded as compute passes and submitted.
 
 use super::bindings::{SelfContactStage, Stage, StrainLimitStages};
+use super::kernel_buffers::FrameData;
 use super::GpuBackend;
 use crate::data::{self, GpuPose, Params};
 use crate::kernels::{workgroups, BUILD_KERNELS, COMPLIANCE_SLOTS, UNIFORM_STRIDE};
@@ -15,18 +16,6 @@ use pleat::World;
 
 /// Bytes of one indirect dispatch's workgroup counts.
 const INDIRECT_ARGS: usize = 12;
-
-/// The per-substep parameters, pin targets and collider poses of a frame,
-/// written on the CPU before upload.
-#[derive(Default)]
-pub(super) struct FrameData {
-    /// One [`Params`] every [`UNIFORM_STRIDE`] bytes.
-    pub(super) params: Vec<u8>,
-    pub(super) targets: Vec<[f32; 4]>,
-    pub(super) poses: Vec<GpuPose>,
-    /// The live compliance table, [`COMPLIANCE_SLOTS`] long.
-    pub(super) compliances: Vec<f32>,
-}
 
 impl SelfContactStage {
     /// The broad phase over `particles` particles: checks whether the

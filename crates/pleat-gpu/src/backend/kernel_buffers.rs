@@ -1,0 +1,290 @@
+//! The buffers the kernels bind besides the state: per kernel
+//! ([`KernelBuffers`], the self-contacts' and the strain limits' among
+//! them), per substep ([`PerSubstep`]), and the frame's data written on
+//! the CPU before upload ([`FrameData`]).
+
+use super::projection::ConstraintBuffers;
+use crate::buffers::{storage, zeroed};
+use crate::data::{Counts, GpuCollider, GpuPose, Range};
+use crate::kernels::{workgroups, BUILD_KERNELS, UNIFORM_STRIDE};
+use pleat::mesh::incidence::Incidence;
+use pleat::model::Model;
+use wgpu::util::DeviceExt;
+
+/// Buffers whose size depends on the number of substeps per frame.
+pub(super) struct PerSubstep {
+    pub(super) capacity: u32,
+    pub(super) params: wgpu::Buffer,
+    pub(super) targets: wgpu::Buffer,
+    pub(super) poses: wgpu::Buffer,
+}
+
+/// Buffers of the kernels of group 1, by kernel.
+pub(super) struct KernelBuffers {
+    /// Items and lambdas of each constraint kind, in projection order.
+    pub(super) constraints: Vec<ConstraintBuffers>,
+    /// The distances' strain limits, where an edge has one.
+    pub(super) strain_limit: Option<StrainLimitBuffers>,
+    pub(super) hard_pins: wgpu::Buffer,
+    pub(super) pin_dispatch: (u32, u32),
+    pub(super) track_dispatch: (u32, u32),
+    pub(super) triangles: wgpu::Buffer,
+    pub(super) triangle_force: wgpu::Buffer,
+    pub(super) around_start: wgpu::Buffer,
+    pub(super) around: wgpu::Buffer,
+    pub(super) colliders: wgpu::Buffer,
+    /// What `colliders` holds, its friction refreshed from the world.
+    pub(super) collider_shapes: Vec<GpuCollider>,
+    pub(super) sdf_values: wgpu::Buffer,
+    pub(super) thickness: wgpu::Buffer,
+    pub(super) whole: (u32, u32),
+    pub(super) self_contact: Option<SelfContactBuffers>,
+    /// The grabbed particle's reach (XPBD): rest positions with reach
+    /// factors, each particle's cloth, the dispatch over the particles.
+    pub(super) grab_reach: Option<([wgpu::Buffer; 2], (u32, u32))>,
+}
+
+/// The self-contacts' hash grid, candidates and dispatch counts, and their
+/// inputs and outputs.
+pub(super) struct SelfContactBuffers {
+    /// Bucket counts and starts, fill counters, sorted particles, scan sums.
+    pub(super) grid: wgpu::Buffer,
+    /// Triangles, then the triangles each vertex owns (compressed rows).
+    pub(super) topology: wgpu::Buffer,
+    /// Rest positions with the cloth's index in w, then the positions at
+    /// the last build.
+    pub(super) rest: wgpu::Buffer,
+    /// Fixed-point corrections and contact counts per particle.
+    pub(super) accum: wgpu::Buffer,
+    /// Header (pairs found, fresh, counters, the margin's state), then the pairs.
+    pub(super) candidates: wgpu::Buffer,
+    /// The indirect dispatches' workgroup counts: the build's, the solve's,
+    /// then the build's when it runs.
+    pub(super) args: wgpu::Buffer,
+    /// Hash grid cell size with the margin (less the margin without it).
+    pub(super) cell: f32,
+    /// Hash table size: a power of two, a multiple of the scan block.
+    pub(super) buckets: u32,
+    pub(super) margin: f32,
+    pub(super) exclusion: f32,
+    /// Most candidate pairs kept.
+    pub(super) capacity: u32,
+    /// Jacobi iterations a substep, the CPU backend's
+    /// ([`pleat::collide::self_contact::iterations`]).
+    pub(super) iterations: u32,
+    /// Whether it has been said that they cannot grow.
+    pub(super) told_full: bool,
+}
+
+/// What the strain limits' sweeps need besides the distances' items.
+pub(super) struct StrainLimitBuffers {
+    /// The sweeps after the iterations before the further ones: the CPU's
+    /// [`pleat::solver::xpbd::STRAIN_LIMIT_SWEEPS`].
+    pub(super) sweeps: u32,
+    /// Each colour's slice of the distances, for the further sweeps.
+    pub(super) colours: wgpu::Buffer,
+    /// Whether the last sweep found an edge far beyond its limit.
+    pub(super) beyond: wgpu::Buffer,
+}
+
+impl StrainLimitBuffers {
+    pub(super) fn new(device: &wgpu::Device, sweeps: u32, colours: &[Range]) -> Option<Self> {
+        (sweeps > 0).then(|| StrainLimitBuffers {
+            sweeps,
+            colours: storage(device, "distance colours", colours),
+            beyond: zeroed(device, "beyond the slack", 4),
+        })
+    }
+}
+
+/// Most a rest edge may stretch and still find its triangles' contacts.
+const CONTACT_EDGE_STRETCH: f32 = 1.5;
+/// A cloth's pairs closer at rest than this many thicknesses never collide.
+const CONTACT_EXCLUSION: f32 = 2.0;
+/// How much farther than the thickness a candidate pair may lie, in
+/// thicknesses: below the exclusion radius less one, so that flat cloth,
+/// and cloth compressed by up to an eighth, gives no candidates.
+const CONTACT_MARGIN: f32 = 0.75;
+/// Candidate pairs per particle kept at most.
+const CANDIDATES_PER_PARTICLE: u64 = 16;
+/// Words of the candidates' header (`HEADER` in lib/contact.wgsl).
+const CANDIDATE_HEADER: u64 = 16;
+/// The first word of the margin's state in that header (`FRAME_BUILDS`),
+/// and its words.
+const MARGIN_STATE: (u64, u64) = (12, 4);
+
+impl SelfContactBuffers {
+    pub(super) fn new(
+        device: &wgpu::Device,
+        model: &Model,
+        thickness: f32,
+        triangles: &[u32],
+    ) -> Self {
+        let n = model.particle_count() as u32;
+        let longest = model
+            .edges
+            .iter()
+            .map(|e| e.rest_length)
+            .fold(0.0, f32::max);
+        let exclusion = CONTACT_EXCLUSION * thickness;
+        let margin = CONTACT_MARGIN * thickness;
+        let buckets = (2 * n).next_power_of_two().max(crate::kernels::WORKGROUP);
+        let grid_len = 2 * buckets as u64 + n as u64 + (buckets / crate::kernels::WORKGROUP) as u64;
+        let (start, owned) = owned_triangles(model);
+        let topology: Vec<u32> = [triangles, &start, &owned].concat();
+        let mut rest = vec![[0.0; 4]; 2 * n as usize];
+        for (k, cloth) in model.cloths.iter().enumerate() {
+            for i in cloth.particles() {
+                rest[i] = model.rest[i].extend(k as f32).to_array();
+            }
+        }
+        let capacity = (CANDIDATES_PER_PARTICLE * u64::from(n))
+            .min(largest_capacity(device))
+            .max(1);
+        let narrow_cell = CONTACT_EDGE_STRETCH * longest + thickness;
+        SelfContactBuffers {
+            grid: zeroed(device, "contact grid", grid_len * 4),
+            topology: storage(device, "topology", &topology),
+            rest: storage(device, "rest positions", &rest),
+            accum: zeroed(device, "contact corrections", n as u64 * 16),
+            args: indirect_args(device, build_workgroups(n, buckets)),
+            candidates: candidates(device, capacity),
+            cell: narrow_cell + margin,
+            buckets,
+            margin,
+            exclusion,
+            capacity: capacity as u32,
+            iterations: pleat::collide::self_contact::iterations(model) as u32,
+            told_full: false,
+        }
+    }
+
+    /// After a build found `found` pairs, more than the candidates hold
+    /// (those beyond were not solved), a buffer for [`GROWTH`] times as
+    /// many (twice the last at least), up to the largest a binding takes,
+    /// zeroed so that the next substep builds afresh but for the margin's
+    /// state, carried over. False when it is that large already.
+    pub(super) fn grow(
+        &mut self,
+        (device, queue): (&wgpu::Device, &wgpu::Queue),
+        found: u64,
+    ) -> bool {
+        let wanted = (found as f64 * GROWTH) as u64;
+        let capacity = wanted
+            .max(2 * u64::from(self.capacity))
+            .min(largest_capacity(device));
+        if capacity <= u64::from(self.capacity) {
+            return false;
+        }
+        let grown = candidates(device, capacity);
+        let mut encoder = device.create_command_encoder(&Default::default());
+        let (first, words) = MARGIN_STATE;
+        encoder.copy_buffer_to_buffer(&self.candidates, 4 * first, &grown, 4 * first, 4 * words);
+        queue.submit([encoder.finish()]);
+        self.candidates = grown;
+        self.capacity = capacity as u32;
+        true
+    }
+}
+
+/// Room for how many times the pairs a build found, when they overflowed
+/// the candidates: a cloth that settles into more layers finds more.
+const GROWTH: f64 = 1.5;
+
+/// The most candidate pairs one binding of `device` holds.
+fn largest_capacity(device: &wgpu::Device) -> u64 {
+    let words = device.limits().max_storage_buffer_binding_size / 4;
+    ((words - CANDIDATE_HEADER) / 2).min(u64::from(u32::MAX))
+}
+
+/// A candidates buffer of `capacity` pairs, zeroed: not fresh, so the
+/// first substep builds.
+fn candidates(device: &wgpu::Device, capacity: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("contact candidates"),
+        size: (CANDIDATE_HEADER + 2 * capacity) * 4,
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_DST
+            | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    })
+}
+
+/// The workgroups of the build's kernels over `n` particles and `buckets`
+/// buckets: clear, count, scan_blocks, scan_sums, scan_add, scatter, find.
+fn build_workgroups(n: u32, buckets: u32) -> [(u32, u32); BUILD_KERNELS] {
+    [
+        workgroups(2 * buckets),
+        workgroups(n),
+        workgroups(buckets / crate::kernels::WORKGROUP),
+        (1, 1),
+        workgroups(buckets),
+        workgroups(n),
+        workgroups(n),
+    ]
+}
+
+/// The indirect dispatches' buffer: the build's and the solve's counts
+/// (written on the GPU), then the build's when it runs.
+fn indirect_args(device: &wgpu::Device, build: [(u32, u32); BUILD_KERNELS]) -> wgpu::Buffer {
+    let mut words = vec![0u32; 3 * (BUILD_KERNELS + 1)];
+    words.extend(build.iter().flat_map(|&(x, y)| [x, y, 1]));
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("contact dispatches"),
+        contents: bytemuck::cast_slice(&words),
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
+    })
+}
+
+/// Each triangle under its vertex of lowest index, in compressed rows
+/// (starts, then triangles): a particle's contact search takes the
+/// triangles its neighbours own, so it meets each triangle once.
+fn owned_triangles(model: &Model) -> (Vec<u32>, Vec<u32>) {
+    fn lowest(t: &[u32; 3]) -> &[u32] {
+        let k = (0..3).min_by_key(|&k| t[k]).unwrap_or(0);
+        &t[k..k + 1]
+    }
+    let incidence = Incidence::new(&model.triangles, model.particle_count(), lowest);
+    let (start, slots) = incidence.rows();
+    (start.to_vec(), slots.iter().map(|s| s.element).collect())
+}
+
+impl PerSubstep {
+    pub(super) fn new(device: &wgpu::Device, counts: &Counts, capacity: u32) -> Self {
+        let buffer = |label, size: u64, usage| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: size.max(16),
+                usage: usage | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let c = capacity as u64;
+        PerSubstep {
+            capacity,
+            params: buffer("params", c * UNIFORM_STRIDE, wgpu::BufferUsages::UNIFORM),
+            targets: buffer(
+                "pin targets",
+                c * counts.pins as u64 * 16,
+                wgpu::BufferUsages::STORAGE,
+            ),
+            poses: buffer(
+                "collider poses",
+                c * counts.colliders as u64 * size_of::<GpuPose>() as u64,
+                wgpu::BufferUsages::STORAGE,
+            ),
+        }
+    }
+}
+
+/// The per-substep parameters, pin targets and collider poses of a frame,
+/// written on the CPU before upload.
+#[derive(Default)]
+pub(super) struct FrameData {
+    /// One [`crate::data::Params`] every [`UNIFORM_STRIDE`] bytes.
+    pub(super) params: Vec<u8>,
+    pub(super) targets: Vec<[f32; 4]>,
+    pub(super) poses: Vec<GpuPose>,
+    /// The live compliance table, [`crate::kernels::COMPLIANCE_SLOTS`] long.
+    pub(super) compliances: Vec<f32>,
+}
