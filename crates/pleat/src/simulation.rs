@@ -47,6 +47,8 @@ pub struct Simulation {
     frames_stepped: u32,
     /// The particle a person drags ([`Simulation::grab`]).
     grab: Option<Grab>,
+    /// The grab of the last frame stepped, where its target moves on from.
+    stepped_grab: Option<Grab>,
     /// Set when the solver first produces NaN/inf or runaway stretch.
     pub stability: StabilityMonitor,
     backend: Box<dyn Backend>,
@@ -84,6 +86,7 @@ impl Simulation {
             stepped_progress: 0.0,
             frames_stepped: 0,
             grab: None,
+            stepped_grab: None,
             stability: StabilityMonitor::default(),
             backend,
             synced: true,
@@ -212,8 +215,13 @@ impl Simulation {
                 flat: self.settings.self_collision.enabled,
             },
             grab: self.grab,
+            grab_from: self
+                .stepped_grab
+                .filter(|g| self.grab.is_some_and(|now| now.particle == g.particle))
+                .map(|g| g.target),
         };
         self.stepped_progress = self.fold_progress;
+        self.stepped_grab = self.grab;
         self.backend.step(
             &mut self.particles,
             &mut self.world,

@@ -220,7 +220,8 @@ impl GpuBackend {
         targets.clear();
         poses.clear();
         for (s, (t, dt)) in substep_times(world.time, frame_dt, substeps).enumerate() {
-            let p = Params::at(world, settings, &self.counts, control, (s as u32, t, dt));
+            let control = control.at_substep(s as u32, substeps);
+            let p = Params::at(world, settings, &self.counts, &control, (s as u32, t, dt));
             let at = s * UNIFORM_STRIDE as usize;
             params[at..at + size_of::<Params>()].copy_from_slice(bytemuck::bytes_of(&p));
             for a in self.hard_pins.iter_mut().chain(self.soft_pins.iter_mut()) {

@@ -198,8 +198,10 @@ impl super::Solver for MassSpring {
         control: &Control,
         stages: &mut StageTimes,
     ) {
-        for (t, dt) in super::substep_times(world.time, control.frame_dt, self.substeps) {
-            self.verlet_step(particles, (world, control), t, dt, stages);
+        let times = super::substep_times(world.time, control.frame_dt, self.substeps);
+        for (k, (t, dt)) in times.enumerate() {
+            let control = control.at_substep(k as u32, self.substeps);
+            self.verlet_step(particles, (world, &control), t, dt, stages);
         }
     }
 }

@@ -255,8 +255,9 @@ impl PbdLoop {
         mut project: impl FnMut(&mut Particles),
     ) {
         let substeps = self.settings.substeps;
-        for t_dt in super::substep_times(world.time, control.frame_dt, substeps) {
-            self.substep(p, (world, control), t_dt, stages, &mut project);
+        for (k, t_dt) in super::substep_times(world.time, control.frame_dt, substeps).enumerate() {
+            let control = control.at_substep(k as u32, substeps);
+            self.substep(p, (world, &control), t_dt, stages, &mut project);
         }
     }
 

@@ -439,8 +439,9 @@ impl super::Solver for Xpbd {
             });
         }
         let substeps = self.settings.substeps;
-        for t_dt in super::substep_times(world.time, control.frame_dt, substeps) {
-            self.substep(particles, world, control, t_dt, stages);
+        for (k, t_dt) in super::substep_times(world.time, control.frame_dt, substeps).enumerate() {
+            let control = control.at_substep(k as u32, substeps);
+            self.substep(particles, world, &control, t_dt, stages);
         }
     }
 }
