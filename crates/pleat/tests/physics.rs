@@ -25,6 +25,14 @@ fn run(sim: &mut Simulation, frames: u32, dt: f32) {
     }
 }
 
+/// The largest distance between the same particle in `a` and `b`.
+fn farthest_apart(a: &[Vec3], b: &[Vec3]) -> f32 {
+    a.iter()
+        .zip(b)
+        .map(|(p, q)| p.distance(*q))
+        .fold(0.0, f32::max)
+}
+
 /// A free 12 x 12 cloth at the origin with no gravity, no damping and no pins.
 fn free_cloth(stretch_compliance: f32) -> Scene {
     let mut scene = hanging_cloth(12, 10, false);
@@ -43,13 +51,7 @@ fn compliance_zero_cloth_at_rest_stays_at_rest() {
     let mut sim = build(&free_cloth(0.0));
     let rest = sim.particles.x.clone();
     run(&mut sim, 120, 1.0 / 60.0);
-    let drift = sim
-        .particles
-        .x
-        .iter()
-        .zip(&rest)
-        .map(|(a, b)| a.distance(*b))
-        .fold(0.0, f32::max);
+    let drift = farthest_apart(&sim.particles.x, &rest);
     assert!(drift < 1e-6, "a cloth at rest moved by {drift} m");
 }
 
@@ -93,13 +95,7 @@ fn pinned_cloth_comes_to_rest() {
     run(&mut sim, 600, 1.0 / 60.0);
     let before = sim.particles.x.clone();
     run(&mut sim, 60, 1.0 / 60.0);
-    let drift = sim
-        .particles
-        .x
-        .iter()
-        .zip(&before)
-        .map(|(a, b)| a.distance(*b))
-        .fold(0.0, f32::max);
+    let drift = farthest_apart(&sim.particles.x, &before);
     assert!(drift < 1e-3, "still moving {drift} m per second after 10 s");
     assert!(
         sim.particles.kinetic_energy() < 1e-6,
@@ -379,9 +375,9 @@ fn a_dragged_corner_pulls_the_cloth_along() {
 }
 
 /// Where a 16 x 16 hanging cloth ends after its lower left corner is
-/// dragged 0.2 m in, 0.3 m up and 0.2 m out over half a second, in frames of `1 / fps` with
-/// `substeps` each, the grab's target set at each frame's end as a hand
-/// would be read.
+/// dragged 0.2 m in, 0.3 m up and 0.2 m out over half a second, in frames
+/// of `1 / fps` with `substeps` each, the grab's target set at each
+/// frame's end as a hand would be read.
 fn dragged_corner(fps: f32, substeps: u32) -> Vec<Vec3> {
     let mut scene = hanging_cloth(16, substeps, false);
     scene.fps = fps;
@@ -414,11 +410,7 @@ fn a_drag_does_not_depend_on_how_its_frames_are_cut_into_substeps() {
     // 12 mm apart.
     let coarse = dragged_corner(60.0, 10);
     let fine = dragged_corner(600.0, 1);
-    let apart = coarse
-        .iter()
-        .zip(&fine)
-        .map(|(a, b)| a.distance(*b))
-        .fold(0.0, f32::max);
+    let apart = farthest_apart(&coarse, &fine);
     assert!(apart < 2e-3, "the two runs end {apart} m apart");
 }
 

@@ -204,7 +204,6 @@ impl GpuBackend {
         (settings, table): (&SolverSettings, &Compliances),
         control: &Control,
     ) -> u32 {
-        let frame_dt = control.frame_dt;
         let substeps = settings.substeps.max(1);
         self.reserve(substeps);
         let FrameData {
@@ -219,8 +218,7 @@ impl GpuBackend {
         params.resize((substeps as u64 * UNIFORM_STRIDE) as usize, 0);
         targets.clear();
         poses.clear();
-        for (s, (t, dt)) in substep_times(world.time, frame_dt, substeps).enumerate() {
-            let control = control.at_substep(s as u32, substeps);
+        for (s, (t, dt, control)) in substep_times(world.time, control, substeps).enumerate() {
             let p = Params::at(world, settings, &self.counts, &control, (s as u32, t, dt));
             let at = s * UNIFORM_STRIDE as usize;
             params[at..at + size_of::<Params>()].copy_from_slice(bytemuck::bytes_of(&p));

@@ -198,9 +198,7 @@ impl super::Solver for MassSpring {
         control: &Control,
         stages: &mut StageTimes,
     ) {
-        let times = super::substep_times(world.time, control.frame_dt, self.substeps);
-        for (k, (t, dt)) in times.enumerate() {
-            let control = control.at_substep(k as u32, self.substeps);
+        for (t, dt, control) in super::substep_times(world.time, control, self.substeps) {
             self.verlet_step(particles, (world, &control), t, dt, stages);
         }
     }

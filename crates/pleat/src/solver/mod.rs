@@ -146,12 +146,17 @@ impl StageTimes {
     }
 }
 
-/// The start time and length of each of the `substeps` equal substeps of a
-/// frame of `frame_dt` starting at `start` (one at least).
-pub fn substep_times(start: f32, frame_dt: f32, substeps: u32) -> impl Iterator<Item = (f32, f32)> {
+/// Each of the `substeps` equal substeps (one at least) of the frame that
+/// `control` drives from time `start`: its start time and length, and its
+/// own control ([`Control::at_substep`]: the grab's target part way).
+pub fn substep_times(
+    start: f32,
+    control: &Control,
+    substeps: u32,
+) -> impl Iterator<Item = (f32, f32, Control)> + '_ {
     let n = substeps.max(1);
-    let dt = frame_dt / n as f32;
-    (0..n).map(move |s| (start + s as f32 * dt, dt))
+    let dt = control.frame_dt / n as f32;
+    (0..n).map(move |s| (start + s as f32 * dt, dt, control.at_substep(s, n)))
 }
 
 /// One algorithm that advances cloth in time.

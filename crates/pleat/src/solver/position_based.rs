@@ -255,9 +255,8 @@ impl PbdLoop {
         mut project: impl FnMut(&mut Particles),
     ) {
         let substeps = self.settings.substeps;
-        for (k, t_dt) in super::substep_times(world.time, control.frame_dt, substeps).enumerate() {
-            let control = control.at_substep(k as u32, substeps);
-            self.substep(p, (world, &control), t_dt, stages, &mut project);
+        for (t, dt, control) in super::substep_times(world.time, control, substeps) {
+            self.substep(p, (world, &control), (t, dt), stages, &mut project);
         }
     }
 

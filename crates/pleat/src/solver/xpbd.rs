@@ -439,9 +439,8 @@ impl super::Solver for Xpbd {
             });
         }
         let substeps = self.settings.substeps;
-        for (k, t_dt) in super::substep_times(world.time, control.frame_dt, substeps).enumerate() {
-            let control = control.at_substep(k as u32, substeps);
-            self.substep(particles, world, &control, t_dt, stages);
+        for (t, dt, control) in super::substep_times(world.time, control, substeps) {
+            self.substep(particles, world, &control, (t, dt), stages);
         }
     }
 }
