@@ -88,6 +88,10 @@ pub struct GpuBackend {
     persistent_allowed: bool,
     /// Dispatches the last frame recorded.
     dispatches: u32,
+    /// Whether the strain limits are swept again after the contacts, as
+    /// the CPU backend does where something touches cloth with limits
+    /// (`pleat::solver::xpbd::XpbdConstraints::limits_after_contacts`).
+    limits_after_contacts: bool,
 }
 
 impl GpuBackend {

@@ -67,6 +67,9 @@ pub(super) struct Projection {
     /// Sweeps of the distances' strain limits after the iterations, before
     /// the further ones.
     pub(super) strain_limit_sweeps: u32,
+    /// Whether the strain limits are swept again after the contacts, where
+    /// anything touches the cloth (`XpbdConstraints::limits_after_contacts`).
+    pub(super) limits_after_contacts: bool,
     /// Each colour's slice of the distances.
     pub(super) distance_colours: Vec<Range>,
     /// Constraints projected per iteration, pins included.
@@ -125,6 +128,7 @@ pub(super) fn xpbd_projection(
         soft_pins,
         hinge_count: c.hinges.len() as u32,
         strain_limit_sweeps: c.strain_limit_sweeps,
+        limits_after_contacts: c.limits_after_contacts,
         distance_colours: c
             .distance
             .colors()
@@ -223,6 +227,7 @@ pub(super) fn jacobi_projection(
         soft_pins,
         hinge_count: 0,
         strain_limit_sweeps: 0,
+        limits_after_contacts: false,
         distance_colours: Vec::new(),
         free_parts: Vec::new(),
         fold_limits: None,

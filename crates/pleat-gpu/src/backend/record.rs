@@ -267,7 +267,8 @@ impl GpuBackend {
 
     /// Records one substep as six passes (stamped where the adapter has
     /// timestamps): prediction, constraints, the self-contacts' broad
-    /// phase, narrow phase and solve, collisions;
+    /// phase, narrow phase and solve, collisions (and the strain limits
+    /// again, where [`GpuBackend::limits_after_contacts`]);
     /// returns the dispatches it recorded.
     fn record_substep(
         &self,
@@ -339,6 +340,9 @@ impl GpuBackend {
         pass(TimedStage::Collisions, &mut |pass| {
             if let Some(collide) = &st.collide {
                 n += dispatch(pass, collide, Some(particles));
+            }
+            if let (true, Some(limits)) = (self.limits_after_contacts, &st.strain_limit) {
+                n += limits.record(pass);
             }
             n += over_particles(pass, &st.update_velocities, particles);
         });

@@ -162,6 +162,7 @@ impl GpuBackend {
             soft_pins,
             hinge_count,
             strain_limit_sweeps,
+            limits_after_contacts,
             distance_colours,
             constraint_count,
             free_parts,
@@ -301,7 +302,9 @@ impl GpuBackend {
                 Persistent::new((device, context.device_type), &sheet, left, &state)
             })
             .flatten();
+        let touches = stages.collide.is_some() || stages.self_contact.is_some();
         let backend = GpuBackend {
+            limits_after_contacts: limits_after_contacts && touches,
             context: context.clone(),
             health,
             momentum,
