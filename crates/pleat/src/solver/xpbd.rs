@@ -336,7 +336,7 @@ impl XpbdConstraints {
     /// The strain limits' own sweeps: [`STRAIN_LIMIT_SWEEPS`], then more
     /// while the last found an edge beyond [`STRAIN_LIMIT_SLACK`] times
     /// its limit, up to [`MAX_STRAIN_LIMIT_SWEEPS`].
-    pub fn sweep_strain_limits(&self, p: &mut Particles) {
+    fn sweep_strain_limits(&self, p: &mut Particles) {
         if self.strain_limit_sweeps == 0 {
             return;
         }
