@@ -1,7 +1,8 @@
 // Distance constraints, one colour per dispatch (lib/distance.wgsl): the
 // compliant projection with its strain limit, and the strain limit alone;
 // then the strain limits' further sweeps, in one workgroup that stops
-// itself, and the held limits met in one.
+// itself, the held limits met in one, and, for small sheets, every sweep of
+// a substep in one.
 
 @group(1) @binding(0) var<storage, read_write> distances: array<Distance>;
 @group(1) @binding(1) var<storage, read_write> distance_lambda: array<f32>;
@@ -53,7 +54,15 @@ fn limit_further(@builtin(local_invocation_index) t: u32) {
     if t == 0u {
         sweep_again = atomicExchange(&beyond[0], 0u);
     }
-    sweep_while_beyond(t, WORKGROUP, STRAIN_LIMIT_SLACK, STRAIN_LIMIT_SWEEPS, MAX_STRAIN_LIMIT_SWEEPS);
+    sweep_while_beyond(t, WORKGROUP, STRAIN_LIMIT_SLACK, STRAIN_LIMIT_SWEEPS, STRAIN_LIMIT_SWEEPS, MAX_STRAIN_LIMIT_SWEEPS);
+}
+
+// Every sweep of a substep in one dispatch of one workgroup, for sheets
+// small enough that a workgroup walks each colour in a few rounds: no
+// dispatch per colour and sweep.
+@compute @workgroup_size(256)
+fn limit_alone(@builtin(local_invocation_index) t: u32) {
+    sweep_strain_limits_in_workgroup(t, WORKGROUP, STRAIN_LIMIT_SWEEPS);
 }
 
 // The held limits met over the positions alone when a fold comes to rest
@@ -64,5 +73,5 @@ fn limit_held(@builtin(local_invocation_index) t: u32) {
     if t == 0u {
         sweep_again = 1u;
     }
-    sweep_while_beyond(t, WORKGROUP, 1.0, 0u, FOLD_HOLD_SWEEPS);
+    sweep_while_beyond(t, WORKGROUP, 1.0, 0u, 0u, FOLD_HOLD_SWEEPS);
 }

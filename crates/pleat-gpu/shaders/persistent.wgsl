@@ -89,40 +89,13 @@ fn keep_momentum(t: u32, part: Range) {
     storageBarrier();
 }
 
-// One sweep of the strain limits alone over every colour; whether an edge
-// was beyond `slack` times its limit.
-fn limit_sweep(t: u32, slack: f32) {
-    for (var c = 0u; c < program.distance_colours; c++) {
-        let r = distance_colour(c);
-        for (var k = t; k < r.count; k += THREADS) {
-            if limit_distance(r.first + k, slack) {
-                atomicStore(&beyond_in_sweep, 1u);
-            }
-        }
-        storageBarrier();
-    }
-}
-
 // The strain limits after the iterations, as the dispatched kernels run
-// them: the first sweeps, the last noting whether an edge is beyond the
-// slack, then further ones while one is.
+// them.
 fn sweep_strain_limits(t: u32) {
     if program.strain_limit_sweeps == 0u {
         return;
     }
-    for (var sweep = 1u; sweep < program.strain_limit_sweeps; sweep++) {
-        limit_sweep(t, 1.0);
-    }
-    if t == 0u {
-        atomicStore(&beyond_in_sweep, 0u);
-    }
-    workgroupBarrier();
-    limit_sweep(t, STRAIN_LIMIT_SLACK);
-    workgroupBarrier();
-    if t == 0u {
-        sweep_again = atomicLoad(&beyond_in_sweep);
-    }
-    sweep_while_beyond(t, THREADS, STRAIN_LIMIT_SLACK, STRAIN_LIMIT_SWEEPS, MAX_STRAIN_LIMIT_SWEEPS);
+    sweep_strain_limits_in_workgroup(t, THREADS, program.strain_limit_sweeps);
 }
 
 // One substep: the prediction with the multipliers cleared, the

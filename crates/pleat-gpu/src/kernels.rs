@@ -40,8 +40,9 @@ pub struct Kernels {
     pub distance: wgpu::ComputePipeline,
     /// The distances' strain limits alone (hard, no multipliers): a sweep,
     /// the sweep that notes whether an edge is beyond the slack, the
-    /// further sweeps in one workgroup, and the held limits met in one.
-    pub distance_limit: [wgpu::ComputePipeline; 4],
+    /// further sweeps in one workgroup, the held limits met in one, and
+    /// every sweep of a substep in one.
+    pub distance_limit: [wgpu::ComputePipeline; 5],
     pub bending: wgpu::ComputePipeline,
     pub isometric: wgpu::ComputePipeline,
     pub hinge: wgpu::ComputePipeline,
@@ -188,8 +189,14 @@ impl Kernels {
             gather: pipeline(shaders::WIND, "gather", &with_kernel),
             resolve: pipeline(shaders::COLLIDE, "resolve", &with_kernel),
             distance: pipeline(shaders::DISTANCE, "solve", &with_kernel),
-            distance_limit: ["limit", "limit_measured", "limit_further", "limit_held"]
-                .map(|e| pipeline(shaders::DISTANCE, e, &with_kernel)),
+            distance_limit: [
+                "limit",
+                "limit_measured",
+                "limit_further",
+                "limit_held",
+                "limit_alone",
+            ]
+            .map(|e| pipeline(shaders::DISTANCE, e, &with_kernel)),
             bending: pipeline(shaders::BENDING, "solve", &with_kernel),
             isometric: pipeline(shaders::ISOMETRIC, "solve", &with_kernel),
             hinge: pipeline(shaders::HINGE, "solve", &with_kernel),

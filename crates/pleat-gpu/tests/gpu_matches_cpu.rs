@@ -175,7 +175,8 @@ fn a_small_sheet_folds_in_one_dispatch_a_frame_as_in_many() {
     // held: one workgroup running every substep of a frame follows the
     // dispatches per colour, kind and substep, in a handful of dispatches
     // a frame (the frame, the health check's two, the held limits' one
-    // when the fold comes to rest) instead of thousands. The two differ by
+    // when the fold comes to rest) instead of hundreds (19 a substep, the
+    // strain limits' sweeps among them in one dispatch). The two differ by
     // round-off after a frame; the free sheet's drift from round-off then
     // grows by about 6e-6 m a frame, as much as either's from the CPU.
     let text = r#"{ "name": "k", "frames": 40, "fps": 60, "gravity": [0, 0, 0],
@@ -208,7 +209,7 @@ fn a_small_sheet_folds_in_one_dispatch_a_frame_as_in_many() {
         most[0]
     );
     assert!(
-        most[1] > 1000,
+        most[1] > 500,
         "{} dispatches a frame, colour by colour",
         most[1]
     );

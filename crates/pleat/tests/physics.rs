@@ -366,32 +366,30 @@ fn stretch_while_dragged(sim: &mut Simulation, particle: u32, velocity: Vec3) ->
 }
 
 #[test]
-fn a_dragged_corner_pulls_the_cloth_along() {
-    // The grab's reach over the cloth brings it along: 1.13 at most here,
-    // where the app's user saw a spike of 9.2 times an edge's length (the
-    // undragged drape on the spinning sphere: 1.07).
-    let mut sim = build(&load("rotating_sphere.json"));
-    let stretch = stretch_while_dragged(&mut sim, 0, Vec3::new(-0.5, 1.0, 0.0));
-    assert!(stretch <= 1.2, "max stretch while dragged: {stretch}");
-}
-
-#[test]
-fn a_strain_limit_holds_where_friction_holds_the_cloth_back() {
-    // The spinning-sphere demo's cloth with a 3 % strain limit, dragged by
-    // the middle of an edge up and across the sphere, whose friction and
-    // the ground's hold parts of it back. The limits swept again after the
-    // contacts keep every edge within the limit and its slack (1.054);
-    // swept before the contacts alone, edges reached 2.98 times their
-    // length.
-    let mut scene = load("rotating_sphere.json");
-    scene.cloths[0].material.max_strain = Some(0.03);
-    let mut sim = build(&scene);
-    let stretch = stretch_while_dragged(&mut sim, 32, Vec3::new(0.0, 0.6, -1.0));
-    let bound = 1.0 + pleat::solver::xpbd::STRAIN_LIMIT_SLACK * 0.03;
-    assert!(
-        stretch <= bound + 1e-3,
-        "max stretch while dragged: {stretch}"
-    );
+fn dragging_the_rigid_demo_stretches_no_edge_past_a_tenth() {
+    // The app's spinning-sphere demo as shipped, draped, then dragged for
+    // a second as a user tried it: by a corner up and away (a spike of 9.2
+    // times an edge's length before the grab reached over the cloth, 1.13
+    // after) and by the middle of an edge up across the sphere, whose
+    // friction and the ground's hold parts of the cloth back (1.25). The
+    // demo's 5 % strain limit, swept again after the contacts, holds every
+    // edge within the limit and its slack, 1.09; swept before the contacts
+    // alone, the edge drag reached 3.73.
+    let scene = load("rotating_sphere.json");
+    let limit = scene.cloths[0].material.max_strain.expect("a strain limit");
+    let bound = 1.0 + pleat::solver::xpbd::STRAIN_LIMIT_SLACK * limit;
+    assert!(bound <= 1.1, "the demo's limit allows {bound}");
+    for (particle, velocity) in [
+        (0, Vec3::new(-0.5, 1.0, 0.0)),
+        (32, Vec3::new(0.0, 0.6, -1.0)),
+    ] {
+        let mut sim = build(&scene);
+        let stretch = stretch_while_dragged(&mut sim, particle, velocity);
+        assert!(
+            stretch <= bound + 1e-3,
+            "particle {particle}: max stretch {stretch} while dragged"
+        );
+    }
 }
 
 /// Where a 16 x 16 hanging cloth ends after its lower left corner is

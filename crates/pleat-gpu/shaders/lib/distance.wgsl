@@ -98,12 +98,13 @@ var<workgroup> sweep_again: u32;
 
 // Sweeps `first` to `last` (exclusive) of the strain limits at `slack`, in
 // one workgroup of `threads` invocations (t is this one's index): a sweep
-// over every colour, a storage barrier between colours, while the sweep
-// before found an edge beyond the slack (`sweep_again`, which the caller
-// sets for the first).
-fn sweep_while_beyond(t: u32, threads: u32, slack: f32, first: u32, last: u32) {
+// over every colour, a storage barrier between colours; from sweep
+// `forced` on, only while the sweep before found an edge beyond the slack
+// (`sweep_again`, which the caller sets before the first).
+fn sweep_while_beyond(t: u32, threads: u32, slack: f32, first: u32, forced: u32, last: u32) {
     for (var sweep = first; sweep < last; sweep++) {
-        if workgroupUniformLoad(&sweep_again) == 0u {
+        let again = workgroupUniformLoad(&sweep_again);
+        if sweep >= forced && again == 0u {
             break;
         }
         if t == 0u {
@@ -124,4 +125,15 @@ fn sweep_while_beyond(t: u32, threads: u32, slack: f32, first: u32, last: u32) {
             sweep_again = atomicLoad(&beyond_in_sweep);
         }
     }
+}
+
+// Every strain-limit sweep of a substep in one workgroup, as
+// crate::solver::xpbd's sweep_strain_limits: `sweeps` of them, then more
+// while the last found an edge beyond STRAIN_LIMIT_SLACK times its limit,
+// up to MAX_STRAIN_LIMIT_SWEEPS in all.
+fn sweep_strain_limits_in_workgroup(t: u32, threads: u32, sweeps: u32) {
+    if t == 0u {
+        sweep_again = 1u;
+    }
+    sweep_while_beyond(t, threads, STRAIN_LIMIT_SLACK, 0u, sweeps, MAX_STRAIN_LIMIT_SWEEPS);
 }

@@ -53,6 +53,12 @@ pub(super) struct Stages {
     pub(super) update_velocities: wgpu::ComputePipeline,
 }
 
+/// Most distances whose strain limits one workgroup sweeps, every sweep of
+/// a substep in one dispatch: up to this, it walks each colour in a few
+/// rounds, and the dispatches per colour and sweep cost more than the
+/// sweeps (measured on lavapipe: see BENCHMARKS.md).
+const ONE_WORKGROUP_EDGES: u32 = 16_384;
+
 /// The strain limits' sweeps after the iterations, as the CPU runs them
 /// (`Xpbd`'s `sweep_strain_limits`): the first sweeps, the last of them
 /// noting whether an edge is beyond [`pleat::solver::xpbd::STRAIN_LIMIT_SLACK`]
@@ -61,12 +67,15 @@ pub(super) struct Stages {
 /// sweeps run in one workgroup of one dispatch, a barrier between
 /// colours, so that they stop themselves with no read back; a sheet that
 /// is not jammed pays one empty dispatch.
-/// The held limits are met in one such dispatch too.
+/// The held limits are met in one such dispatch too. A sheet of at most
+/// [`ONE_WORKGROUP_EDGES`] distances runs all of a substep's sweeps in one
+/// dispatch of one workgroup (`alone`).
 pub(super) struct StrainLimitStages {
     pub(super) sweep: Stage,
     pub(super) measured: Stage,
     pub(super) further: Stage,
     pub(super) held: Stage,
+    pub(super) alone: Option<Stage>,
     pub(super) sweeps: u32,
 }
 
@@ -153,15 +162,17 @@ impl Stages {
             .zip(b.strain_limit.as_ref())
             .map(|(k, limits)| {
                 let buffers = [&k.items, &k.lambda, &limits.colours, &limits.beyond];
-                let [sweep, measured, further, held] = kernels
+                let [sweep, measured, further, held, alone] = kernels
                     .distance_limit
                     .each_ref()
                     .map(|pipeline| stage(pipeline, buffers, k.dispatches.clone()));
+                let edges: u32 = k.dispatches.iter().map(|&(_, count)| count).sum();
                 StrainLimitStages {
                     sweep,
                     measured,
                     further,
                     held,
+                    alone: (edges <= ONE_WORKGROUP_EDGES).then_some(alone),
                     sweeps: limits.sweeps,
                 }
             });

@@ -90,6 +90,9 @@ impl SelfContactStage {
 impl StrainLimitStages {
     /// Records the sweeps; returns the dispatches they took.
     fn record(&self, pass: &mut wgpu::ComputePass<'_>) -> u32 {
+        if let Some(alone) = &self.alone {
+            return dispatch(pass, alone, Some(1));
+        }
         let mut n = 0;
         for _ in 1..self.sweeps {
             n += dispatch(pass, &self.sweep, None);
