@@ -26,6 +26,42 @@ pub fn workgroups(count: u32) -> (u32, u32) {
     }
 }
 
+/// The kernels of the distances' strain limits alone (distance.wgsl).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DistanceLimit {
+    /// One sweep, a dispatch per colour.
+    Sweep,
+    /// The sweep that notes whether an edge is beyond the slack.
+    Measured,
+    /// The further sweeps, in one workgroup that stops itself.
+    Further,
+    /// The held limits met, in one workgroup.
+    Held,
+    /// Every sweep of a substep, in one workgroup.
+    Alone,
+}
+
+impl DistanceLimit {
+    pub const ALL: [DistanceLimit; 5] = [
+        DistanceLimit::Sweep,
+        DistanceLimit::Measured,
+        DistanceLimit::Further,
+        DistanceLimit::Held,
+        DistanceLimit::Alone,
+    ];
+
+    /// Its entry point in distance.wgsl.
+    pub fn entry_point(self) -> &'static str {
+        match self {
+            DistanceLimit::Sweep => "limit",
+            DistanceLimit::Measured => "limit_measured",
+            DistanceLimit::Further => "limit_further",
+            DistanceLimit::Held => "limit_held",
+            DistanceLimit::Alone => "limit_alone",
+        }
+    }
+}
+
 /// Every pipeline of the backend.
 pub struct Kernels {
     pub state_layout: wgpu::BindGroupLayout,
@@ -38,11 +74,9 @@ pub struct Kernels {
     pub gather: wgpu::ComputePipeline,
     pub resolve: wgpu::ComputePipeline,
     pub distance: wgpu::ComputePipeline,
-    /// The distances' strain limits alone (hard, no multipliers): a sweep,
-    /// the sweep that notes whether an edge is beyond the slack, the
-    /// further sweeps in one workgroup, the held limits met in one, and
-    /// every sweep of a substep in one.
-    pub distance_limit: [wgpu::ComputePipeline; 5],
+    /// The distances' strain limits alone (hard, no multipliers), indexed
+    /// by [`DistanceLimit`].
+    pub distance_limit: [wgpu::ComputePipeline; DistanceLimit::ALL.len()],
     pub bending: wgpu::ComputePipeline,
     pub isometric: wgpu::ComputePipeline,
     pub hinge: wgpu::ComputePipeline,
@@ -189,14 +223,8 @@ impl Kernels {
             gather: pipeline(shaders::WIND, "gather", &with_kernel),
             resolve: pipeline(shaders::COLLIDE, "resolve", &with_kernel),
             distance: pipeline(shaders::DISTANCE, "solve", &with_kernel),
-            distance_limit: [
-                "limit",
-                "limit_measured",
-                "limit_further",
-                "limit_held",
-                "limit_alone",
-            ]
-            .map(|e| pipeline(shaders::DISTANCE, e, &with_kernel)),
+            distance_limit: DistanceLimit::ALL
+                .map(|k| pipeline(shaders::DISTANCE, k.entry_point(), &with_kernel)),
             bending: pipeline(shaders::BENDING, "solve", &with_kernel),
             isometric: pipeline(shaders::ISOMETRIC, "solve", &with_kernel),
             hinge: pipeline(shaders::HINGE, "solve", &with_kernel),

@@ -7,7 +7,7 @@ use super::GpuBackend;
 use crate::buffers::{entry, sized_entry, zeroed};
 use crate::data::{Params, Range};
 use crate::health::ContactCounts;
-use crate::kernels::{Kernels, SelfContactKernels};
+use crate::kernels::{DistanceLimit, Kernels, SelfContactKernels};
 
 /// One kernel with its buffers bound, and the slices it is dispatched on.
 pub(super) struct Stage {
@@ -55,8 +55,9 @@ pub(super) struct Stages {
 
 /// Most distances whose strain limits one workgroup sweeps, every sweep of
 /// a substep in one dispatch: up to this, it walks each colour in a few
-/// rounds, and the dispatches per colour and sweep cost more than the
-/// sweeps (measured on lavapipe: see BENCHMARKS.md).
+/// rounds. On lavapipe the rigid demo's 12,033 distances ran faster so
+/// than with a dispatch per colour and sweep (BENCHMARKS.md); the bound
+/// itself is not measured.
 const ONE_WORKGROUP_EDGES: u32 = 16_384;
 
 /// The strain limits' sweeps after the iterations, as the CPU runs them
@@ -67,16 +68,26 @@ const ONE_WORKGROUP_EDGES: u32 = 16_384;
 /// sweeps run in one workgroup of one dispatch, a barrier between
 /// colours, so that they stop themselves with no read back; a sheet that
 /// is not jammed pays one empty dispatch.
-/// The held limits are met in one such dispatch too. A sheet of at most
-/// [`ONE_WORKGROUP_EDGES`] distances runs all of a substep's sweeps in one
-/// dispatch of one workgroup (`alone`).
+/// The held limits are met in one such dispatch too.
 pub(super) struct StrainLimitStages {
-    pub(super) sweep: Stage,
-    pub(super) measured: Stage,
-    pub(super) further: Stage,
+    pub(super) substep: SubstepSweeps,
     pub(super) held: Stage,
-    pub(super) alone: Option<Stage>,
-    pub(super) sweeps: u32,
+}
+
+/// How a substep's strain-limit sweeps are dispatched.
+pub(super) enum SubstepSweeps {
+    /// A sheet of at most [`ONE_WORKGROUP_EDGES`] distances: every sweep
+    /// in one dispatch of one workgroup, the first
+    /// [`pleat::solver::xpbd::STRAIN_LIMIT_SWEEPS`] then the further ones.
+    InOneWorkgroup(Stage),
+    /// `sweeps - 1` sweeps and the one that measures, a dispatch per colour
+    /// each, then the further sweeps in one workgroup.
+    PerColour {
+        sweep: Stage,
+        measured: Stage,
+        further: Stage,
+        sweeps: u32,
+    },
 }
 
 impl Stages {
@@ -162,18 +173,24 @@ impl Stages {
             .zip(b.strain_limit.as_ref())
             .map(|(k, limits)| {
                 let buffers = [&k.items, &k.lambda, &limits.colours, &limits.beyond];
-                let [sweep, measured, further, held, alone] = kernels
-                    .distance_limit
-                    .each_ref()
-                    .map(|pipeline| stage(pipeline, buffers, k.dispatches.clone()));
+                let limit_stage = |kernel: DistanceLimit| {
+                    let pipeline = &kernels.distance_limit[kernel as usize];
+                    stage(pipeline, buffers, k.dispatches.clone())
+                };
                 let edges: u32 = k.dispatches.iter().map(|&(_, count)| count).sum();
+                let substep = if edges <= ONE_WORKGROUP_EDGES {
+                    SubstepSweeps::InOneWorkgroup(limit_stage(DistanceLimit::Alone))
+                } else {
+                    SubstepSweeps::PerColour {
+                        sweep: limit_stage(DistanceLimit::Sweep),
+                        measured: limit_stage(DistanceLimit::Measured),
+                        further: limit_stage(DistanceLimit::Further),
+                        sweeps: limits.sweeps,
+                    }
+                };
                 StrainLimitStages {
-                    sweep,
-                    measured,
-                    further,
-                    held,
-                    alone: (edges <= ONE_WORKGROUP_EDGES).then_some(alone),
-                    sweeps: limits.sweeps,
+                    substep,
+                    held: limit_stage(DistanceLimit::Held),
                 }
             });
         Stages {

@@ -2,7 +2,7 @@
 //! collider poses, compliances, friction) written, then its substeps
 //! recorded as compute passes and submitted.
 
-use super::bindings::{SelfContactStage, Stage, StrainLimitStages};
+use super::bindings::{SelfContactStage, Stage, StrainLimitStages, SubstepSweeps};
 use super::kernel_buffers::FrameData;
 use super::GpuBackend;
 use crate::data::{self, GpuPose, Params};
@@ -90,14 +90,21 @@ impl SelfContactStage {
 impl StrainLimitStages {
     /// Records the sweeps; returns the dispatches they took.
     fn record(&self, pass: &mut wgpu::ComputePass<'_>) -> u32 {
-        if let Some(alone) = &self.alone {
-            return dispatch(pass, alone, Some(1));
+        match &self.substep {
+            SubstepSweeps::InOneWorkgroup(all) => dispatch(pass, all, Some(1)),
+            SubstepSweeps::PerColour {
+                sweep,
+                measured,
+                further,
+                sweeps,
+            } => {
+                let mut n = 0;
+                for _ in 1..*sweeps {
+                    n += dispatch(pass, sweep, None);
+                }
+                n + dispatch(pass, measured, None) + dispatch(pass, further, Some(1))
+            }
         }
-        let mut n = 0;
-        for _ in 1..self.sweeps {
-            n += dispatch(pass, &self.sweep, None);
-        }
-        n + dispatch(pass, &self.measured, None) + dispatch(pass, &self.further, Some(1))
     }
 }
 
