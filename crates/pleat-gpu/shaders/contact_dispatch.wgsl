@@ -49,12 +49,6 @@ fn arm_solve() {
         atomicStore(&candidates[FRESH], 2u);
         atomicMax(&candidates[OVERFLOWED], found);
     }
-    // The next substep's range of displacements, empty (the build, if
-    // any, has read this one's).
-    for (var axis = 0u; axis < 3u; axis++) {
-        atomicStore(&candidates[STEP_LEAST + axis], 0u);
-        atomicStore(&candidates[STEP_GREATEST + axis], 0u);
-    }
     let groups = (kept + WORKGROUP - 1u) / WORKGROUP;
     let solve = 3u * BUILD_KERNELS;
     args[solve] = min(groups, MAX_GROUPS);

@@ -24,24 +24,10 @@
 // is taken through its vertex of lowest index, which owns it: once, with
 // no test. A vertex closer at rest than the exclusion radius rules out
 // itself and every triangle it owns at once.
-//
-// A vertex may also have passed through a triangle within the substep and
-// ended farther than the reach from it. Relative to the middle of the
-// substep's displacements (a particle's motion, here), the vertex ends at
-// most its own motion from where it crossed, and the triangle's corners at
-// most theirs from where they were then. A particle that moved more than
-// half the reach announces its motion to the cells around it that such a
-// vertex may be in (`announce`); where a vertex's motion and the most
-// announced to its cell (or its own) exceed the reach, it searches as much
-// farther (more cells) and takes the triangles it crossed (continuous
-// detection, lib/contact.wgsl's `crossing`), so no substep is too fast to
-// be caught (up to MOST_CELLS cells either side). A cloth moving as a
-// whole, however fast, searches no farther.
 
 // grid: [0, B) bucket counts, then their exclusive prefix (bucket starts);
 // [B, 2B) fill counters; [2B, 2B + N) particles sorted by bucket;
-// [2B + N, 2B + N + B / SCAN) workgroup sums of the prefix scan; then per
-// bucket the motion announced to it (`announce`).
+// [2B + N, ...) workgroup sums of the prefix scan.
 @group(1) @binding(0) var<storage, read_write> grid: array<atomic<u32>>;
 // topology: triangles (3 per triangle), then the triangles each vertex
 // owns (those whose lowest vertex it is) in compressed rows: starts
@@ -91,14 +77,13 @@ fn moved(i: u32) -> vec3<f32> {
     return position(i) - rest[params.particle_count + i].xyz;
 }
 
-// The workgroup's range of displacements since the build, then of the
-// substep's (its least as the complement, as in the candidates' header).
-var<workgroup> least: array<atomic<u32>, 6>;
-var<workgroup> greatest: array<atomic<u32>, 6>;
+// The workgroup's range of displacements.
+var<workgroup> least: array<atomic<u32>, 3>;
+var<workgroup> greatest: array<atomic<u32>, 3>;
 
-// Widens the range of the displacements since the last build, and that of
-// the substep's, by the workgroup's particles': over the workgroup first,
-// so that each shared range takes one update a workgroup.
+// Widens the range of the displacements since the last build by the
+// workgroup's particles': over the workgroup first, so that the shared
+// range takes one update a workgroup.
 @compute @workgroup_size(256)
 fn bound(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     if lid < 3u {
@@ -107,45 +92,17 @@ fn bound(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups)
     workgroupBarrier();
     let i = flat_index(gid, groups);
     if i < params.particle_count {
-        let since_build = moved(i);
-        let in_substep = position(i) - prev[i].xyz;
+        let d = moved(i);
         for (var axis = 0u; axis < 3u; axis++) {
-            atomicMin(&least[axis], ordered(since_build[axis]));
-            atomicMax(&greatest[axis], ordered(since_build[axis]));
-            atomicMax(&least[3u + axis], ~ordered(in_substep[axis]));
-            atomicMax(&greatest[3u + axis], ordered(in_substep[axis]));
+            atomicMin(&least[axis], ordered(d[axis]));
+            atomicMax(&greatest[axis], ordered(d[axis]));
         }
     }
     workgroupBarrier();
     if lid < 3u {
         atomicMin(&candidates[LEAST + lid], atomicLoad(&least[lid]));
         atomicMax(&candidates[GREATEST + lid], atomicLoad(&greatest[lid]));
-        atomicMax(&candidates[STEP_LEAST + lid], atomicLoad(&least[3u + lid]));
-        atomicMax(&candidates[STEP_GREATEST + lid], atomicLoad(&greatest[3u + lid]));
     }
-}
-
-// The middle of the substep's range of displacements (not a number while
-// the range is empty).
-fn step_middle() -> vec3<f32> {
-    var middle = vec3<f32>(0.0);
-    for (var axis = 0u; axis < 3u; axis++) {
-        let low = from_ordered(~atomicLoad(&candidates[STEP_LEAST + axis]));
-        let high = from_ordered(atomicLoad(&candidates[STEP_GREATEST + axis]));
-        middle[axis] = 0.5 * low + 0.5 * high;
-    }
-    return middle;
-}
-
-// Particle i's displacement in the substep less the middle of all.
-fn step_motion(i: u32) -> f32 {
-    return length(position(i) - prev[i].xyz - step_middle());
-}
-
-// The word of bucket b's announced motion: the most any particle fast
-// enough to matter that may reach a vertex in its cells has moved.
-fn announced(b: u32) -> u32 {
-    return sums_base() + params.contact_buckets / SCAN + b;
 }
 
 // Notes whether particle i has moved more than half the margin from the
@@ -176,9 +133,6 @@ fn clear(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups)
     if k < 2u * params.contact_buckets {
         atomicStore(&grid[k], 0u);
     }
-    if k < params.contact_buckets {
-        atomicStore(&grid[announced(k)], 0u);
-    }
 }
 
 @compute @workgroup_size(256)
@@ -186,36 +140,6 @@ fn count(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups)
     let i = flat_index(gid, groups);
     if i < params.particle_count {
         atomicAdd(&grid[bucket(cell_of(position(i), cell_size()))], 1u);
-        announce(i);
-    }
-}
-
-// Announces particle i's motion to the cells of every vertex that may have
-// crossed one of its triangles, if it moved more than half the reach (a
-// vertex and triangle that both moved less come no farther than the reach
-// apart by crossing). Relative to the middle of the substep's
-// displacements, such a vertex ends at most its own motion and i's from the
-// crossing point, and i at most a stretched edge from it.
-fn announce(i: u32) {
-    let motion = step_motion(i);
-    let reach = params.contact_thickness + margin();
-    // Not a number (no range yet): nothing to announce.
-    if !(motion > 0.5 * reach) {
-        return;
-    }
-    let p = position(i);
-    let size = cell_size();
-    let around = vec3<f32>(size - reach + 2.0 * motion);
-    let cell = cell_of(p, size);
-    let most = vec3<i32>(MOST_CELLS);
-    let low = clamp(cell_of(p - around, size), cell - most, cell);
-    let high = clamp(cell_of(p + around, size), cell, cell + most);
-    for (var z = low.z; z <= high.z; z++) {
-        for (var y = low.y; y <= high.y; y++) {
-            for (var x = low.x; x <= high.x; x++) {
-                atomicMax(&grid[announced(bucket(vec3<i32>(x, y, z)))], bitcast<u32>(motion));
-            }
-        }
     }
 }
 
@@ -315,10 +239,9 @@ fn rest_distance_to_triangle(home: vec4<f32>, v: vec3<u32>) -> f32 {
 }
 
 // Takes triangle t as particle i's candidate if it lies within thickness +
-// margin of i, or i passed through it in the substep (looked for where i
-// searches farther, `sweep` > 0), unless it is of i's cloth and closer to
-// i at rest than the exclusion radius.
-fn consider_triangle(i: u32, home: vec4<f32>, t: u32, reach: f32, sweep: f32) {
+// margin of i, unless it is of i's cloth and closer to i at rest than the
+// exclusion radius.
+fn consider_triangle(i: u32, home: vec4<f32>, t: u32, reach: f32) {
     let v = triangle(t);
     if i == v.x || i == v.y || i == v.z {
         return;
@@ -329,28 +252,10 @@ fn consider_triangle(i: u32, home: vec4<f32>, t: u32, reach: f32, sweep: f32) {
     let c = position(v.z);
     let w = closest_barycentric(p, a, b, c);
     let d = p - (w.x * a + w.y * b + w.z * c);
-    let near = dot(d, d) < reach * reach || (sweep > 0.0 && crossing(i, v).w != 0.0);
-    if near && (rest[v.x].w != home.w || rest_distance_to_triangle(home, v) >= params.contact_exclusion) {
+    if dot(d, d) < reach * reach && (rest[v.x].w != home.w || rest_distance_to_triangle(home, v) >= params.contact_exclusion) {
         push(i, t);
     }
 }
-
-// How much farther than the cell size particle i, in `cell`, searches for
-// triangles it may have crossed: its motion and the most motion of a
-// triangle it may have crossed (the announced motion, or its own where
-// that is more: a slower triangle's), beyond the reach; none where they are
-// within it (or are not numbers).
-fn sweep(i: u32, cell: vec3<i32>, reach: f32) -> f32 {
-    let motion = step_motion(i);
-    let other = max(bitcast<f32>(atomicLoad(&grid[announced(bucket(cell))])), motion);
-    let beyond = motion + other - reach;
-    return select(0.0, beyond, beyond > 0.0);
-}
-
-// Cells searched either side of a particle at most (a 9 x 9 x 9 block):
-// relative motion of three cells a substep is far beyond what the
-// substeps of any cloth scene allow.
-const MOST_CELLS: i32 = 4;
 
 // Particle i's candidates: the particles (of higher index: each pair once)
 // and triangles within thickness + margin of it, less the rest-near ones;
@@ -371,33 +276,26 @@ fn find(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) 
     let size = cell_size();
     let cell = cell_of(p, size);
     let reach = params.contact_thickness + margin();
-    let sweep = sweep(i, cell, reach);
-    // The cells a ball of `radius` around p touches: the 27 around p's
-    // own without a sweep, MOST_CELLS either side at most.
-    let radius = size + sweep;
-    let most = vec3<i32>(MOST_CELLS);
-    let low = clamp(cell_of(p - vec3<f32>(radius), size), cell - most, cell - vec3<i32>(1));
-    let high = clamp(cell_of(p + vec3<f32>(radius), size), cell + vec3<i32>(1), cell + most);
     let owned_start = 3u * params.triangle_count;
     let owned = owned_start + params.particle_count + 1u;
-    for (var z = low.z; z <= high.z; z++) {
-        for (var y = low.y; y <= high.y; y++) {
-            for (var x = low.x; x <= high.x; x++) {
-                let near = vec3<i32>(x, y, z);
+    for (var dz = -1; dz <= 1; dz++) {
+        for (var dy = -1; dy <= 1; dy++) {
+            for (var dx = -1; dx <= 1; dx++) {
+                let near = cell + vec3<i32>(dx, dy, dz);
                 let b = bucket(near);
                 let first = atomicLoad(&grid[b]);
                 let last = first + atomicLoad(&grid[params.contact_buckets + b]);
                 for (var s = first; s < last; s++) {
                     let j = atomicLoad(&grid[sorted + s]);
                     let d = position(j) - p;
-                    if any(cell_of(position(j), size) != near) || dot(d, d) > radius * radius || rest_near(home, j) {
+                    if any(cell_of(position(j), size) != near) || dot(d, d) > size * size || rest_near(home, j) {
                         continue;
                     }
                     if j > i && dot(d, d) < reach * reach {
                         push(i, j | PARTICLE_PAIR);
                     }
                     for (var a = topology[owned_start + j]; a < topology[owned_start + j + 1u]; a++) {
-                        consider_triangle(i, home, topology[owned + a], reach, sweep);
+                        consider_triangle(i, home, topology[owned + a], reach);
                     }
                 }
             }

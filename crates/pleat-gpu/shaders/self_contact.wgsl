@@ -1,7 +1,6 @@
 // Self-collision and cloth-cloth contact: the candidate pairs of the last
 // build (contact_grid.wgsl) as particle-particle and vertex-triangle
-// contacts within the contact thickness (and vertex-triangle pairs that
-// crossed within the substep, found by continuous detection), solved in
+// proximity contacts within the contact thickness, solved in
 // CONTACT_ITERATIONS Jacobi iterations a substep (the CPU backend's): each
 // contact's corrections summed per particle in fixed point with integer
 // atomics (WGSL has no float atomics; integer sums do not depend on the
@@ -62,25 +61,18 @@ fn particle_contact(i: u32, j: u32) -> bool {
 }
 
 // Keeps particle i at the thickness from triangle t on the side it was on,
-// with friction on their relative motion; a vertex that passed through the
-// triangle in the substep and ended beyond the thickness is held at the
-// point where it crossed (as the CPU backend's contacts are); whether it
-// acted.
+// with friction on their relative motion; whether it acted.
 fn triangle_contact(i: u32, t: vec3<u32>) -> bool {
     let h = params.contact_thickness;
     let p = position(i);
     let a = position(t.x);
     let b = position(t.y);
     let c = position(t.z);
-    var bary = closest_barycentric(p, a, b, c);
-    if distance(p, bary.x * a + bary.y * b + bary.z * c) >= h {
-        let hit = crossing(i, t);
-        if hit.w == 0.0 {
-            return false;
-        }
-        bary = hit.xyz;
-    }
+    let bary = closest_barycentric(p, a, b, c);
     let q = bary.x * a + bary.y * b + bary.z * c;
+    if distance(p, q) >= h {
+        return false;
+    }
     let normal = cross(b - a, c - a);
     let area2 = length(normal);
     if area2 <= 0.0 {

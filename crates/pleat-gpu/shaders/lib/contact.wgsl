@@ -17,11 +17,7 @@
 // (contact_dispatch.wgsl's `choose_margin`): the builds of the frame so
 // far, the frames since the margin was dropped plus one (0 while it is in
 // use), the frames since it was last tried again plus one (0: never), and
-// the frames to go without it before the next try (0: the first wait);
-// then the least and the greatest displacement of this substep along each
-// axis (from `prev`, the substep's start), the least as the complement of
-// its key so that zero (as the buffer starts, and as it is emptied after
-// each build) is an empty range.
+// the frames to go without it before the next try (0: the first wait).
 const FOUND: u32 = 0u;
 const FRESH: u32 = 1u;
 const SOLVED: u32 = 2u;
@@ -34,9 +30,7 @@ const FRAME_BUILDS: u32 = 12u;
 const DROPPED: u32 = 13u;
 const SINCE_TRY: u32 = 14u;
 const WAIT: u32 = 15u;
-const STEP_LEAST: u32 = 16u;
-const STEP_GREATEST: u32 = 19u;
-const HEADER: u32 = 22u;
+const HEADER: u32 = 16u;
 // A candidate's second word names a particle, not a triangle.
 const PARTICLE_PAIR: u32 = 0x80000000u;
 
@@ -79,67 +73,4 @@ fn closest_barycentric(p: vec3<f32>, a: vec3<f32>, b: vec3<f32>, c: vec3<f32>) -
     let v = vb * denom;
     let w = vc * denom;
     return vec3<f32>(1.0 - v - w, v, w);
-}
-
-// Slack on the barycentric weights of a crossing point (the CPU backend's
-// INSIDE_TOLERANCE).
-const CROSSING_SLACK: f32 = 1e-3;
-// Bisection steps that find when a vertex crossed a triangle's plane (to
-// 1.5e-5 of the substep).
-const CROSSING_STEPS: u32 = 16u;
-
-// Particle k a fraction `s` of the way through the substep, moving
-// linearly from its start (`prev`).
-fn swept(k: u32, s: f32) -> vec3<f32> {
-    return mix(prev[k].xyz, position(k), s);
-}
-
-// The triple product (b - a) x (c - a) . (p - a) of vertex i and triangle
-// v a fraction `s` of the way through the substep: zero where the vertex
-// lies in the triangle's plane.
-fn coplanarity(i: u32, v: vec3<u32>, s: f32) -> f32 {
-    let a = swept(v.x, s);
-    return dot(cross(swept(v.y, s) - a, swept(v.z, s) - a), swept(i, s) - a);
-}
-
-// Continuous detection (the CPU backend's collide/ccd.rs, in f32): where
-// vertex i passed through triangle v during the substep, as the
-// triangle's barycentric weights of the crossing point (xyz) and w = 1; w
-// = 0 where it did not. The vertex ends on the other side of the moving
-// triangle's plane than it started; bisection finds a moment it lay in
-// the plane, and the vertex must lie inside the triangle then. A vertex
-// that crosses and crosses back within one substep ends on its side and
-// is not reported.
-fn crossing(i: u32, v: vec3<u32>) -> vec4<f32> {
-    let start = coplanarity(i, v, 0.0);
-    let end = coplanarity(i, v, 1.0);
-    if start == 0.0 || end == 0.0 || (start > 0.0) == (end > 0.0) {
-        return vec4<f32>(0.0);
-    }
-    var before = 0.0;
-    var after = 1.0;
-    for (var k = 0u; k < CROSSING_STEPS; k++) {
-        let middle = 0.5 * (before + after);
-        if (coplanarity(i, v, middle) > 0.0) == (start > 0.0) {
-            before = middle;
-        } else {
-            after = middle;
-        }
-    }
-    let a = swept(v.x, after);
-    let ab = swept(v.y, after) - a;
-    let ac = swept(v.z, after) - a;
-    let ap = swept(i, after) - a;
-    let n = cross(ab, ac);
-    let area = dot(n, n);
-    if area <= 0.0 {
-        return vec4<f32>(0.0);
-    }
-    let wb = dot(cross(ap, ac), n) / area;
-    let wc = dot(cross(ab, ap), n) / area;
-    let w = vec3<f32>(1.0 - wb - wc, wb, wc);
-    if any(w < vec3<f32>(-CROSSING_SLACK)) {
-        return vec4<f32>(0.0);
-    }
-    return vec4<f32>(w, 1.0);
 }

@@ -108,7 +108,7 @@ const CONTACT_MARGIN: f32 = 0.75;
 /// Candidate pairs per particle kept at most.
 const CANDIDATES_PER_PARTICLE: u64 = 16;
 /// Words of the candidates' header (`HEADER` in lib/contact.wgsl).
-const CANDIDATE_HEADER: u64 = 22;
+const CANDIDATE_HEADER: u64 = 16;
 /// The first word of the margin's state in that header (`FRAME_BUILDS`),
 /// and its words.
 const MARGIN_STATE: (u64, u64) = (12, 4);
@@ -129,8 +129,7 @@ impl SelfContactBuffers {
         let exclusion = CONTACT_EXCLUSION * thickness;
         let margin = CONTACT_MARGIN * thickness;
         let buckets = (2 * n).next_power_of_two().max(crate::kernels::WORKGROUP);
-        // Counts, fill counters, particles, the scan's sums, announced motions.
-        let grid_len = 3 * buckets as u64 + n as u64 + (buckets / crate::kernels::WORKGROUP) as u64;
+        let grid_len = 2 * buckets as u64 + n as u64 + (buckets / crate::kernels::WORKGROUP) as u64;
         let (start, owned) = owned_triangles(model);
         let topology: Vec<u32> = [triangles, &start, &owned].concat();
         let mut rest = vec![[0.0; 4]; 2 * n as usize];
