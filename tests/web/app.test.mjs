@@ -65,6 +65,16 @@ async function until(page, what, test, seconds = 120) {
   throw new Error(`timed out waiting for ${what}; last state: ${JSON.stringify(last)}`);
 }
 
+// Drops a file named `name` holding `text` on the app, as a user dragging
+// it from their desktop would.
+function dropFile(page, name, text, type = "") {
+  return page.evaluate(([name, text, type]) => {
+    const data = new DataTransfer();
+    data.items.add(new File([text], name, { type }));
+    document.getElementById("pleat").dispatchEvent(new DragEvent("drop", { dataTransfer: data, bubbles: true, cancelable: true }));
+  }, [name, text, type]);
+}
+
 // Whether a PNG (a buffer) shows a picture: many colours, not one flat fill.
 async function notBlank(page, png) {
   const stats = await page.evaluate(async (data) => {
@@ -278,11 +288,7 @@ try {
   await check("a malformed dropped file shows an error while frames go on", async () => {
     await page.goto(`${base}?demo=wind&backend=gpu`);
     const before = await until(page, "the demo", (s) => s.demo === "wind" && s.frame >= 5);
-    await page.evaluate(() => {
-      const data = new DataTransfer();
-      data.items.add(new File(['{"cloths": [{"mesh": 3}]}'], "broken.json", { type: "application/json" }));
-      document.getElementById("pleat").dispatchEvent(new DragEvent("drop", { dataTransfer: data, bubbles: true, cancelable: true }));
-    });
+    await dropFile(page, "broken.json", '{"cloths": [{"mesh": 3}]}', "application/json");
     const shown = await until(page, "the error", (s) => s.last_error !== null);
     assert.match(shown.last_error, /broken\.json/);
     assert.match(shown.last_error, /cloths\[0\]\.mesh: expected an object with `grid`, `obj` or `pattern`, got the number 3/);
@@ -305,11 +311,7 @@ try {
     // Dropped on a running app of its own, not on whatever the last check left.
     await page.goto(`${base}?demo=wind&backend=gpu`);
     await until(page, "the demo", (s) => s.demo === "wind" && s.frame >= 3);
-    await page.evaluate((text) => {
-      const data = new DataTransfer();
-      data.items.add(new File([text], "stiff_springs.json", { type: "application/json" }));
-      document.getElementById("pleat").dispatchEvent(new DragEvent("drop", { dataTransfer: data, bubbles: true, cancelable: true }));
-    }, stiff);
+    await dropFile(page, "stiff_springs.json", stiff, "application/json");
     const halted = await until(page, "the instability", (s) => s.demo === "stiff_springs.json" && s.paused);
     assert.equal(halted.unstable, true);
     assert.match(halted.instability, /the simulation went unstable \((non_finite|runaway)\) at \d+\.\d+ s/);
@@ -321,14 +323,9 @@ try {
   });
 
   await check("a dropped crease pattern folds, and clears the bad drop's error", async () => {
-    const drop = (name, text) => page.evaluate(([name, text]) => {
-      const data = new DataTransfer();
-      data.items.add(new File([text], name));
-      document.getElementById("pleat").dispatchEvent(new DragEvent("drop", { dataTransfer: data, bubbles: true, cancelable: true }));
-    }, [name, text]);
-    await drop("bad.cp", "2 -1 -1 1\n");
+    await dropFile(page, "bad.cp", "2 -1 -1 1\n");
     await until(page, "the bad drop's error", (s) => s.last_error !== null);
-    await drop("x.cp", "2 -1 -1 1 1\n3 -1 1 1 -1\n");
+    await dropFile(page, "x.cp", "2 -1 -1 1 1\n3 -1 1 1 -1\n");
     const opened = await until(page, "the pattern", (s) => s.demo === "x.cp" && s.frame >= 10);
     assert.ok(opened.particles >= 5, JSON.stringify(opened));
     assert.equal(opened.last_error, null, "the bad drop's error went with the good drop");
