@@ -1,6 +1,7 @@
 //! Per-frame recording: the frame's uniforms (parameters, pin targets,
 //! collider poses, compliances, friction) written, then its substeps
-//! recorded as compute passes and submitted.
+//! recorded as compute passes and submitted in a few command buffers, so
+//! that the GPU starts on the first substeps while the CPU encodes the rest.
 
 use super::bindings::{SelfContactStage, Stage, StrainLimitStages, SubstepSweeps};
 use super::kernel_buffers::FrameData;
@@ -13,6 +14,12 @@ use pleat::constraint::Compliances;
 use pleat::control::Control;
 use pleat::solver::{substep_times, SolverSettings, StageTimes};
 use pleat::World;
+
+/// Command buffers a frame of substeps is submitted in, at most: the CPU
+/// encodes the frame's later substeps (wgpu encodes a command buffer as it
+/// finishes, a few microseconds a dispatch) while the GPU runs the earlier
+/// ones, instead of the GPU waiting for the whole frame to be encoded.
+const SUBMITS_PER_FRAME: u32 = 10;
 
 /// Bytes of one indirect dispatch's workgroup counts.
 const INDIRECT_ARGS: usize = 12;
@@ -140,12 +147,7 @@ impl GpuBackend {
         if let Some(t) = &mut self.timestamps {
             t.begin_frame(&self.context.device, stamped);
         }
-        let mut encoder =
-            self.context
-                .device
-                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                    label: Some("frame"),
-                });
+        let mut encoder = self.frame_encoder();
         let came_to_rest = self
             .fold_limits
             .as_mut()
@@ -166,7 +168,13 @@ impl GpuBackend {
                 self.dispatches += 1;
             }
         } else {
+            let per_submit = substeps.div_ceil(SUBMITS_PER_FRAME);
             for s in 0..substeps {
+                if s > 0 && s % per_submit == 0 {
+                    // The GPU runs what is recorded while the rest is encoded.
+                    let recorded = std::mem::replace(&mut encoder, self.frame_encoder());
+                    self.context.queue.submit([recorded.finish()]);
+                }
                 for lambda in &self.lambdas {
                     encoder.clear_buffer(lambda, 0, None);
                 }
@@ -194,6 +202,15 @@ impl GpuBackend {
         }
         // Frees the resources of finished frames without waiting.
         let _ = self.context.device.poll(wgpu::PollType::Poll);
+    }
+
+    /// An encoder for (part of) a frame's commands.
+    fn frame_encoder(&self) -> wgpu::CommandEncoder {
+        self.context
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("frame"),
+            })
     }
 
     /// Whether the frame runs as the persistent kernel's one dispatch: the
