@@ -19,7 +19,11 @@ use pleat::World;
 /// encodes the frame's later substeps (wgpu encodes a command buffer as it
 /// finishes, a few microseconds a dispatch) while the GPU runs the earlier
 /// ones, instead of the GPU waiting for the whole frame to be encoded.
+#[cfg(not(target_arch = "wasm32"))]
 const SUBMITS_PER_FRAME: u32 = 10;
+/// In the browser a frame stays one command buffer: not measured there.
+#[cfg(target_arch = "wasm32")]
+const SUBMITS_PER_FRAME: u32 = 1;
 
 /// Bytes of one indirect dispatch's workgroup counts.
 const INDIRECT_ARGS: usize = 12;
