@@ -2,6 +2,7 @@
 // with WebGPU (SwiftShader where there is no GPU), driven by playwright-core.
 //
 //   node app.test.mjs DIST [SCREENSHOTS]
+//   ONLY="mouse drag" node app.test.mjs DIST   # the checks whose names hold the text
 //
 // DIST is the folder `cargo xtask web --no-serve` wrote; SCREENSHOTS, when
 // given, receives a PNG of each demo at 1280 x 720 and at 390 x 844 (a
@@ -27,6 +28,8 @@ const WIDE = { width: 1280, height: 720 };
 const PHONE = { width: 390, height: 844 };
 const TYPES = { ".html": "text/html", ".js": "text/javascript", ".wasm": "application/wasm" };
 const [dist, shots] = process.argv.slice(2);
+// ONLY=TEXT runs just the checks whose names contain TEXT.
+const only = process.env.ONLY;
 if (!dist) {
   console.error("usage: node app.test.mjs DIST [SCREENSHOTS]");
   process.exit(2);
@@ -145,6 +148,7 @@ page.on("pageerror", (e) => logs.push(`pageerror: ${e.message}`));
 
 let failed = false;
 async function check(name, body) {
+  if (only && !name.includes(only)) return;
   const start = Date.now();
   try {
     await body();
