@@ -363,14 +363,14 @@ fn a_sphere_at_10_m_s_grazing_a_folded_cloth_leaves_no_crossings_on_the_gpu() {
 /// The shipped towel hanging folded over a rail, lifted off and carried by
 /// a sphere at 10 m/s that presses its layers together: no crossings at
 /// any 10th frame; without self-collision its layers pass through each
-/// other.
+/// other by frame 30 (134 crossings there).
 #[test]
 fn a_towel_dragged_by_a_sphere_at_10_m_s_leaves_no_crossings_on_the_gpu() {
     let mut scene = scene_file("towel_rail_sphere.json");
     let on = crossings_every_10_frames(&scene, scene.frames);
     assert!(on.iter().all(|&n| n == 0), "{on:?}");
     scene.solver.self_collision.enabled = false;
-    let off = crossings_every_10_frames(&scene, scene.frames);
+    let off = crossings_every_10_frames(&scene, 30);
     assert!(off.iter().any(|&n| n > 0), "{off:?}");
 }
 
