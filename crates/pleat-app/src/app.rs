@@ -398,7 +398,7 @@ impl PleatApp {
         }
         if (self.playing || self.step_once) && !session.is_pending() {
             session.step(1.0 / session.scene.fps);
-            self.probe.frame += 1;
+            self.probe.count_step();
             self.step_once = false;
             if self.probe.frame % u64::from(STAGE_WINDOW) == 0 {
                 self.stage_window = std::mem::take(&mut session.sim.stages);
