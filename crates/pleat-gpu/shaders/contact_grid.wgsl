@@ -24,11 +24,6 @@
 // is taken through its vertex of lowest index, which owns it: once, with
 // no test. A vertex closer at rest than the exclusion radius rules out
 // itself and every triangle it owns at once.
-// Edge pairs are found through their nearest ends: edges within reach of
-// each other have a pair of ends within the cell size (half of each
-// edge, plus the reach), so each particle takes the edges at it against
-// those at each neighbour of higher index, keeping a pair only where
-// these two particles are its nearest pair of ends: once, with no test.
 
 // grid: [0, B) bucket counts, then their exclusive prefix (bucket starts);
 // [B, 2B) fill counters; [2B, 2B + N) particles sorted by bucket;
@@ -36,8 +31,7 @@
 @group(1) @binding(0) var<storage, read_write> grid: array<atomic<u32>>;
 // topology: triangles (3 per triangle), then the triangles each vertex
 // owns (those whose lowest vertex it is) in compressed rows: starts
-// (N + 1), then triangle indices; then the edges at each vertex, likewise,
-// and the edges' ends (lib/contact.wgsl's `edge`).
+// (N + 1), then triangle indices.
 @group(1) @binding(1) var<storage, read_write> topology: array<u32>;
 @group(1) @binding(2) var<storage, read_write> rest: array<vec4<f32>>;
 @group(1) @binding(3) var<storage, read_write> candidates: array<atomic<u32>>;
@@ -263,85 +257,8 @@ fn consider_triangle(i: u32, home: vec4<f32>, t: u32, reach: f32) {
     }
 }
 
-// Whether the ends u and v, `d` apart squared, come before i and j (i < j),
-// `own` apart squared: nearer, or as near with lower indices.
-fn precedes(d: f32, u: u32, v: u32, own: f32, i: u32, j: u32) -> bool {
-    let lo = min(u, v);
-    return d < own || (d == own && (lo < i || (lo == i && max(u, v) < j)));
-}
-
-fn distance2(p: vec3<f32>, q: vec3<f32>) -> f32 {
-    return dot(p - q, p - q);
-}
-
-// Cosine of 15 degrees: an edge whose triangles lie within it of each
-// other is flat, and two flat edges whose normals do (either way up) lie
-// in parallel layers, which the vertex-triangle contacts keep apart both
-// ways: they are no candidate (as on the CPU backend).
-const PARALLEL: f32 = 0.9659258;
-
-// The unit normal of edge `e` (ends, then wings) if it is flat, else zero.
-fn flat_normal(e: vec4<u32>) -> vec3<f32> {
-    if e.z == NO_VERTEX || e.w == NO_VERTEX {
-        return vec3<f32>(0.0);
-    }
-    let a = position(e.x);
-    let along = position(e.y) - a;
-    let n = normalize(cross(along, position(e.z) - a));
-    let m = normalize(cross(position(e.w) - a, along));
-    return select(vec3<f32>(0.0), n, dot(n, m) > PARALLEL);
-}
-
-// Takes the pairs of an edge at particle i and one at its neighbour j
-// (i < j) that lie within `reach`, whose nearest ends i and j are, that do
-// not lie in parallel layers and that are not of one cloth and closer at
-// rest than the exclusion radius.
-fn consider_edges(i: u32, j: u32, home: vec4<f32>, reach: f32) {
-    let starts = incident_starts();
-    let list = incident_list();
-    let pi = position(i);
-    let pj = position(j);
-    let own = distance2(pi, pj);
-    for (var x = topology[starts + i]; x < topology[starts + i + 1u]; x++) {
-        let ea = topology[list + x];
-        let a = edge(ea);
-        let ka = select(a.x, a.y, a.x == i);
-        let pa = position(ka);
-        // Ends nearer than i and j, for every edge at j.
-        if ka == j || precedes(distance2(pa, pj), ka, j, own, i, j) {
-            continue;
-        }
-        for (var y = topology[starts + j]; y < topology[starts + j + 1u]; y++) {
-            let eb = topology[list + y];
-            let b = edge(eb);
-            let kb = select(b.x, b.y, b.x == j);
-            if kb == i || kb == ka {
-                continue;
-            }
-            let pb = position(kb);
-            if precedes(distance2(pi, pb), i, kb, own, i, j) || precedes(distance2(pa, pb), ka, kb, own, i, j) {
-                continue;
-            }
-            let st = segment_closest(pi, pa, pj, pb);
-            if distance2(mix(pi, pa, st.x), mix(pj, pb, st.y)) >= reach * reach
-                || abs(dot(flat_normal(edge_wings(ea)), flat_normal(edge_wings(eb)))) > PARALLEL {
-                continue;
-            }
-            if rest[kb].w == home.w {
-                let r = segment_closest(home.xyz, rest[ka].xyz, rest[j].xyz, rest[kb].xyz);
-                let apart = mix(home.xyz, rest[ka].xyz, r.x) - mix(rest[j].xyz, rest[kb].xyz, r.y);
-                if dot(apart, apart) < params.contact_exclusion * params.contact_exclusion {
-                    continue;
-                }
-            }
-            push(ea | EDGE_PAIR, eb);
-        }
-    }
-}
-
 // Particle i's candidates: the particles (of higher index: each pair once)
-// and triangles within thickness + margin of it, and the edge pairs at it
-// and a neighbour of higher index, less the rest-near ones;
+// and triangles within thickness + margin of it, less the rest-near ones;
 // its position noted as at the build.
 @compute @workgroup_size(256)
 fn find(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
@@ -376,9 +293,6 @@ fn find(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) 
                     }
                     if j > i && dot(d, d) < reach * reach {
                         push(i, j | PARTICLE_PAIR);
-                    }
-                    if j > i {
-                        consider_edges(i, j, home, reach);
                     }
                     for (var a = topology[owned_start + j]; a < topology[owned_start + j + 1u]; a++) {
                         consider_triangle(i, home, topology[owned + a], reach);

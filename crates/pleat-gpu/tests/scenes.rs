@@ -374,50 +374,6 @@ fn a_towel_dragged_by_a_sphere_at_10_m_s_leaves_no_crossings_on_the_gpu() {
     assert!(off.iter().any(|&n| n > 0), "{off:?}");
 }
 
-/// Two strips of one quad each, crossed like an X: the lower one held at
-/// its ends, the upper one dropped on it. Each strip's corners lie beyond
-/// the other strip, so no vertex meets a triangle: only their long edges
-/// meet, where the strips cross.
-const CROSSED_STRIPS: &str = r#"{ "frames": 40, "fps": 60,
-    "solver": { "substeps": 10, "self_collision": { "enabled": true, "thickness": 0.01 } },
-    "cloths": [
-      { "mesh": { "grid": { "resolution": [2, 2], "size": [1.0, 0.1], "orientation": "horizontal", "center": [0, 0, 0] } },
-        "pins": [ { "edges": ["left", "right"] } ] },
-      { "mesh": { "grid": { "resolution": [2, 2], "size": [0.1, 1.0], "orientation": "horizontal", "center": [0, 0.04, 0] } } } ] }"#;
-
-/// The lowest height of the upper strip of [`CROSSED_STRIPS`] after its
-/// frames.
-fn upper_strip_lowest(sim: &mut Simulation, scene: &pleat::scene::Scene) -> f32 {
-    run(sim, scene, scene.frames);
-    let m = sim.metrics();
-    assert!(!m.nan && !m.unstable, "{m:?}");
-    let upper = sim.model.cloths[1].particles();
-    sim.particles.x[upper]
-        .iter()
-        .map(|p| p.y)
-        .fold(f32::MAX, f32::min)
-}
-
-#[test]
-fn crossed_edges_hold_a_strip_on_another_on_both_backends() {
-    let mut scene = scene(CROSSED_STRIPS);
-    for (backend, mut sim) in [("cpu", cpu(&scene)), ("gpu", gpu(&scene))] {
-        let lowest = upper_strip_lowest(&mut sim, &scene);
-        assert!(
-            lowest > 0.005,
-            "{backend}: the upper strip sank to {lowest}"
-        );
-    }
-    scene.solver.self_collision.enabled = false;
-    for (backend, mut sim) in [("cpu", cpu(&scene)), ("gpu", gpu(&scene))] {
-        let lowest = upper_strip_lowest(&mut sim, &scene);
-        assert!(
-            lowest < -0.05,
-            "{backend}: without contacts the upper strip stayed at {lowest}"
-        );
-    }
-}
-
 /// The shipped fold_onto_itself (64 x 64): the hanging cloth falls onto the
 /// floor cloth and folds onto itself, with no crossing at any 10th frame of
 /// its fall, landing and settling (the first two seconds); without

@@ -49,8 +49,7 @@ pub(super) struct KernelBuffers {
 pub(super) struct SelfContactBuffers {
     /// Bucket counts and starts, fill counters, sorted particles, scan sums.
     pub(super) grid: wgpu::Buffer,
-    /// Triangles, then the triangles each vertex owns and the edges at
-    /// each vertex (compressed rows), then the edges' ends.
+    /// Triangles, then the triangles each vertex owns (compressed rows).
     pub(super) topology: wgpu::Buffer,
     /// Rest positions with the cloth's index in w, then the positions at
     /// the last build.
@@ -132,7 +131,7 @@ impl SelfContactBuffers {
         let buckets = (2 * n).next_power_of_two().max(crate::kernels::WORKGROUP);
         let grid_len = 2 * buckets as u64 + n as u64 + (buckets / crate::kernels::WORKGROUP) as u64;
         let (start, owned) = owned_triangles(model);
-        let topology: Vec<u32> = [triangles, &start, &owned, &incident_edges(model)].concat();
+        let topology: Vec<u32> = [triangles, &start, &owned].concat();
         let mut rest = vec![[0.0; 4]; 2 * n as usize];
         for (k, cloth) in model.cloths.iter().enumerate() {
             for i in cloth.particles() {
@@ -248,29 +247,6 @@ fn owned_triangles(model: &Model) -> (Vec<u32>, Vec<u32>) {
     let incidence = Incidence::new(&model.triangles, model.particle_count(), lowest);
     let (start, slots) = incidence.rows();
     (start.to_vec(), slots.iter().map(|s| s.element).collect())
-}
-
-/// Each edge under both its ends, in compressed rows (starts, then edges),
-/// then each edge's two ends and the vertices opposite it in its triangles
-/// (`u32::MAX` where it has one): the edge-edge search takes the edges at
-/// either end of a pair of neighbouring particles, and culls flat edges
-/// in parallel layers.
-fn incident_edges(model: &Model) -> Vec<u32> {
-    let incidence = Incidence::new(&model.edges, model.particle_count(), |e| &e.v);
-    let (start, slots) = incidence.rows();
-    let edges = slots.iter().map(|s| s.element);
-    // The cloths' edges, in the model's order.
-    let wings: Vec<[u32; 4]> = (model.cloths.iter())
-        .flat_map(|c| {
-            c.topology.edges.iter().map(move |e| {
-                let local = [Some(e.v[0]), Some(e.v[1]), e.opposite[0], e.opposite[1]];
-                local.map(|k| k.map_or(u32::MAX, |k| k + c.offset))
-            })
-        })
-        .collect();
-    debug_assert!(wings.iter().zip(&model.edges).all(|(w, e)| w[..2] == e.v));
-    let wings = wings.into_iter().flatten();
-    start.iter().copied().chain(edges).chain(wings).collect()
 }
 
 impl PerSubstep {
