@@ -23,7 +23,9 @@
 // of the 27 cells around it farther than that are skipped, and a triangle
 // is taken through its vertex of lowest index, which owns it: once, with
 // no test. A vertex closer at rest than the exclusion radius rules out
-// itself and every triangle it owns at once.
+// itself and every triangle it owns at once, and so does one farther than
+// its owned triangles' span (`owned_span`, noted by `scatter`) plus the
+// reach.
 
 // grid: [0, B) bucket counts, then their exclusive prefix (bucket starts);
 // [B, 2B) fill counters; [2B, 2B + N) particles sorted by bucket;
@@ -210,7 +212,22 @@ fn scatter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroup
         let b = bucket(cell_of(position(i), cell_size()));
         let slot = atomicLoad(&grid[b]) + atomicAdd(&grid[params.contact_buckets + b], 1u);
         atomicStore(&grid[2u * params.contact_buckets + slot], i);
+        rest[2u * params.particle_count + i] = vec4<f32>(0.0, 0.0, 0.0, owned_span(i));
     }
+}
+
+// How far the triangles vertex i owns reach from it: the longest of their
+// edges at i (0 if it owns none).
+fn owned_span(i: u32) -> f32 {
+    let owned_start = 3u * params.triangle_count;
+    let owned = owned_start + params.particle_count + 1u;
+    let p = position(i);
+    var span = 0.0;
+    for (var a = topology[owned_start + i]; a < topology[owned_start + i + 1u]; a++) {
+        let v = triangle(topology[owned + a]);
+        span = max(span, max(distance(position(v.x), p), max(distance(position(v.y), p), distance(position(v.z), p))));
+    }
+    return span;
 }
 
 // Whether particles i and j of one cloth lie closer at rest than the
@@ -293,6 +310,12 @@ fn find(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) 
                     }
                     if j > i && dot(d, d) < reach * reach {
                         push(i, j | PARTICLE_PAIR);
+                    }
+                    // Every point of j's triangles lies within their span
+                    // of j.
+                    let span = rest[2u * params.particle_count + j].w + reach;
+                    if dot(d, d) >= span * span {
+                        continue;
                     }
                     for (var a = topology[owned_start + j]; a < topology[owned_start + j + 1u]; a++) {
                         consider_triangle(i, home, topology[owned + a], reach);
