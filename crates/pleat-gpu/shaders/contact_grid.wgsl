@@ -24,8 +24,8 @@
 // is taken through its vertex of lowest index, which owns it: once, with
 // no test. A vertex closer at rest than the exclusion radius rules out
 // itself and every triangle it owns at once, and so does one farther than
-// its owned triangles' span (`owned_span`, noted by `scatter`) plus the
-// reach.
+// its owned triangles' span (`owned_span`, noted by `scatter` with the
+// positions at the build) plus the reach.
 
 // grid: [0, B) bucket counts, then their exclusive prefix (bucket starts);
 // [B, 2B) fill counters; [2B, 2B + N) particles sorted by bucket;
@@ -205,6 +205,8 @@ fn scan_add(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgrou
     }
 }
 
+// Particle i into its bucket; its position and its owned triangles' span
+// noted as at the build.
 @compute @workgroup_size(256)
 fn scatter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let i = flat_index(gid, groups);
@@ -212,7 +214,7 @@ fn scatter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroup
         let b = bucket(cell_of(position(i), cell_size()));
         let slot = atomicLoad(&grid[b]) + atomicAdd(&grid[params.contact_buckets + b], 1u);
         atomicStore(&grid[2u * params.contact_buckets + slot], i);
-        rest[2u * params.particle_count + i] = vec4<f32>(0.0, 0.0, 0.0, owned_span(i));
+        rest[params.particle_count + i] = vec4<f32>(position(i), owned_span(i));
     }
 }
 
@@ -275,8 +277,7 @@ fn consider_triangle(i: u32, home: vec4<f32>, t: u32, reach: f32) {
 }
 
 // Particle i's candidates: the particles (of higher index: each pair once)
-// and triangles within thickness + margin of it, less the rest-near ones;
-// its position noted as at the build.
+// and triangles within thickness + margin of it, less the rest-near ones.
 @compute @workgroup_size(256)
 fn find(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let k = flat_index(gid, groups);
@@ -288,7 +289,6 @@ fn find(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) 
     let sorted = 2u * params.contact_buckets;
     let i = atomicLoad(&grid[sorted + k]);
     let p = position(i);
-    rest[params.particle_count + i] = vec4<f32>(p, 0.0);
     let home = rest[i];
     let size = cell_size();
     let cell = cell_of(p, size);
@@ -313,7 +313,7 @@ fn find(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) 
                     }
                     // Every point of j's triangles lies within their span
                     // of j.
-                    let span = rest[2u * params.particle_count + j].w + reach;
+                    let span = rest[params.particle_count + j].w + reach;
                     if dot(d, d) >= span * span {
                         continue;
                     }

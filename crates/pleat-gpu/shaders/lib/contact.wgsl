@@ -4,9 +4,8 @@
 // candidates: a header, then the pairs found at the last build, two words
 // each: a particle, then a triangle or, with PARTICLE_PAIR set, a particle.
 // rest: [0, N) rest positions with the cloth's index in w, [N, 2N) the
-// positions at the last build, [2N, 3N) how far each vertex's owned
-// triangles reach from it at that build, in w (contact_grid.wgsl's
-// `owned_span`).
+// positions at the last build with how far each vertex's owned triangles
+// reached from it then in w (contact_grid.wgsl's `owned_span`).
 
 // Header words of `candidates`: the pairs found at the last build;
 // nonzero while no particle has moved half the margin since that build

@@ -52,8 +52,8 @@ pub(super) struct SelfContactBuffers {
     /// Triangles, then the triangles each vertex owns (compressed rows).
     pub(super) topology: wgpu::Buffer,
     /// Rest positions with the cloth's index in w, then the positions at
-    /// the last build, then how far each vertex's owned triangles reach
-    /// from it at that build (in w).
+    /// the last build with how far each vertex's owned triangles reached
+    /// from it then in w.
     pub(super) rest: wgpu::Buffer,
     /// Fixed-point corrections and contact counts per particle.
     pub(super) accum: wgpu::Buffer,
@@ -133,7 +133,7 @@ impl SelfContactBuffers {
         let grid_len = 2 * buckets as u64 + n as u64 + (buckets / crate::kernels::WORKGROUP) as u64;
         let (start, owned) = owned_triangles(model);
         let topology: Vec<u32> = [triangles, &start, &owned].concat();
-        let mut rest = vec![[0.0; 4]; 3 * n as usize];
+        let mut rest = vec![[0.0; 4]; 2 * n as usize];
         for (k, cloth) in model.cloths.iter().enumerate() {
             for i in cloth.particles() {
                 rest[i] = model.rest[i].extend(k as f32).to_array();
