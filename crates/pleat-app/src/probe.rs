@@ -29,6 +29,9 @@ pub struct Probe {
     /// Simulation steps per wall second over the last few seconds: the
     /// frames the simulation advanced, however fast the app draws.
     pub steps_per_second: f32,
+    /// The frame from whose landing `steps_per_second` counts: the oldest
+    /// step in its window.
+    pub rate_since_frame: u64,
     /// Simulated seconds per wall second (1: real time).
     pub sim_speed: f32,
     pub particles: usize,
@@ -131,6 +134,7 @@ impl Probe {
             return;
         };
         let elapsed = self.clock - t0;
+        self.rate_since_frame = f0;
         if elapsed > 0.0 {
             self.steps_per_second = ((self.frame - f0) as f64 / elapsed) as f32;
             self.sim_speed = self.steps_per_second * self.step_dt;
@@ -232,6 +236,7 @@ mod tests {
                 continue;
             };
             let &(t0, f0) = seen.iter().find(|&&(s, _)| now - s <= RATE_WINDOW).unwrap();
+            assert_eq!(probe.rate_since_frame, f0);
             let counted = (frame - f0) as f64 / (now - t0);
             let error = (f64::from(probe.steps_per_second) / counted - 1.0).abs();
             assert!(
