@@ -26,6 +26,16 @@
 // itself and every triangle it owns at once, and so does one farther than
 // its owned triangles' span (`owned_span`, noted by `scatter` with the
 // positions at the build) plus the reach.
+// Edge pairs (paper's, in `find_edges`: kernel_buffers.rs lists only
+// paper's edges) are found through their nearest ends: edges within reach of
+// each other have a pair of ends within half of each edge plus the reach,
+// so each particle takes the edges at it against those at each neighbour
+// of higher index, keeping a pair only where these two particles are its
+// nearest pair of ends: once, with no test. `scatter` notes each
+// vertex's longest edge and, if it is flat, its normal at the build,
+// which bound the search: a neighbour farther than half of both longest
+// edges plus the reach, or flat in a layer parallel to the particle's,
+// has no edge pair with it.
 
 // grid: [0, B) bucket counts, then their exclusive prefix (bucket starts);
 // [B, 2B) fill counters; [2B, 2B + N) particles sorted by bucket;
@@ -33,7 +43,8 @@
 @group(1) @binding(0) var<storage, read_write> grid: array<atomic<u32>>;
 // topology: triangles (3 per triangle), then the triangles each vertex
 // owns (those whose lowest vertex it is) in compressed rows: starts
-// (N + 1), then triangle indices.
+// (N + 1), then triangle indices; then the edges at each vertex, likewise,
+// and the edges' ends (lib/contact.wgsl's `edge`).
 @group(1) @binding(1) var<storage, read_write> topology: array<u32>;
 @group(1) @binding(2) var<storage, read_write> rest: array<vec4<f32>>;
 @group(1) @binding(3) var<storage, read_write> candidates: array<atomic<u32>>;
@@ -215,6 +226,7 @@ fn scatter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroup
         let slot = atomicLoad(&grid[b]) + atomicAdd(&grid[params.contact_buckets + b], 1u);
         atomicStore(&grid[2u * params.contact_buckets + slot], i);
         rest[params.particle_count + i] = vec4<f32>(position(i), owned_span(i));
+        rest[2u * params.particle_count + i] = edge_summary(i);
     }
 }
 
@@ -276,6 +288,132 @@ fn consider_triangle(i: u32, home: vec4<f32>, t: u32, reach: f32) {
     }
 }
 
+// Whether the ends u and v, `d` apart squared, come before i and j (i < j),
+// `own` apart squared: nearer, or as near with lower indices.
+fn precedes(d: f32, u: u32, v: u32, own: f32, i: u32, j: u32) -> bool {
+    let lo = min(u, v);
+    return d < own || (d == own && (lo < i || (lo == i && max(u, v) < j)));
+}
+
+fn distance2(p: vec3<f32>, q: vec3<f32>) -> f32 {
+    return dot(p - q, p - q);
+}
+
+// Cosine of 15 degrees: an edge whose triangles lie within it of each
+// other is flat, and two flat edges whose normals do (either way up) lie
+// in parallel layers, which the vertex-triangle contacts keep apart both
+// ways: they are no candidate (as on the CPU backend).
+const PARALLEL: f32 = 0.9659258;
+
+// Cosine of 5 degrees: a vertex whose edges are flat with normals within
+// it of the first edge's is flat, and two flat vertices whose normals lie
+// within it of each other have every pair of their edges within 15
+// degrees: parallel, no candidate.
+const VERTEX_PARALLEL: f32 = 0.9961947;
+
+// The unit normal of edge `e` (ends, then wings) if it is flat, else zero.
+fn flat_normal(e: vec4<u32>) -> vec3<f32> {
+    if e.z == NO_VERTEX || e.w == NO_VERTEX {
+        return vec3<f32>(0.0);
+    }
+    let a = position(e.x);
+    let along = position(e.y) - a;
+    let n = normalize(cross(along, position(e.z) - a));
+    let m = normalize(cross(position(e.w) - a, along));
+    return select(vec3<f32>(0.0), n, dot(n, m) > PARALLEL);
+}
+
+// What the edge search needs of vertex i at a build: its unit normal if
+// it is flat (VERTEX_PARALLEL), else zero, and the length of its longest
+// edge.
+fn edge_summary(i: u32) -> vec4<f32> {
+    let starts = incident_starts();
+    let list = incident_list();
+    var first = vec3<f32>(0.0);
+    var flat = true;
+    var longest = 0.0;
+    for (var x = topology[starts + i]; x < topology[starts + i + 1u]; x++) {
+        let e = edge_wings(topology[list + x]);
+        let n = flat_normal(e);
+        if x == topology[starts + i] {
+            first = n;
+        }
+        flat = flat && any(n != vec3<f32>(0.0)) && abs(dot(n, first)) > VERTEX_PARALLEL;
+        longest = max(longest, distance(position(e.x), position(e.y)));
+    }
+    return vec4<f32>(select(vec3<f32>(0.0), first, flat), longest);
+}
+
+// Takes the pairs of an edge at particle i and one at its neighbour j
+// (i < j) that lie within `reach`, whose nearest ends i and j are, that do
+// not lie in parallel layers and that are not of one cloth and closer at
+// rest than the exclusion radius.
+fn consider_edges(i: u32, j: u32, home: vec4<f32>, reach: f32) {
+    // Edges within reach whose nearest ends are i and j have those ends
+    // within half of each edge plus the reach of each other.
+    let si = rest[2u * params.particle_count + i];
+    let sj = rest[2u * params.particle_count + j];
+    let pi = position(i);
+    let pj = position(j);
+    let own = distance2(pi, pj);
+    let apart = 0.5 * (si.w + sj.w) + reach;
+    if own > apart * apart || abs(dot(si.xyz, sj.xyz)) > VERTEX_PARALLEL {
+        return;
+    }
+    let starts = incident_starts();
+    let list = incident_list();
+    for (var x = topology[starts + i]; x < topology[starts + i + 1u]; x++) {
+        let ea = topology[list + x];
+        let a = edge(ea);
+        let ka = select(a.x, a.y, a.x == i);
+        let pa = position(ka);
+        // Ends nearer than i and j, for every edge at j.
+        if ka == j || precedes(distance2(pa, pj), ka, j, own, i, j) {
+            continue;
+        }
+        for (var y = topology[starts + j]; y < topology[starts + j + 1u]; y++) {
+            let eb = topology[list + y];
+            let b = edge(eb);
+            let kb = select(b.x, b.y, b.x == j);
+            if kb == i || kb == ka {
+                continue;
+            }
+            let pb = position(kb);
+            if precedes(distance2(pi, pb), i, kb, own, i, j) || precedes(distance2(pa, pb), ka, kb, own, i, j) {
+                continue;
+            }
+            let st = segment_closest(pi, pa, pj, pb);
+            if distance2(mix(pi, pa, st.x), mix(pj, pb, st.y)) >= reach * reach
+                || abs(dot(flat_normal(edge_wings(ea)), flat_normal(edge_wings(eb)))) > PARALLEL {
+                continue;
+            }
+            if rest[kb].w == home.w {
+                let r = segment_closest(home.xyz, rest[ka].xyz, rest[j].xyz, rest[kb].xyz);
+                let gap = mix(home.xyz, rest[ka].xyz, r.x) - mix(rest[j].xyz, rest[kb].xyz, r.y);
+                if dot(gap, gap) < params.contact_exclusion * params.contact_exclusion {
+                    continue;
+                }
+            }
+            push(ea | EDGE_PAIR, eb);
+        }
+    }
+}
+
+// The slots in the sorted particles of the bucket of cell `near`.
+fn cell_slots(near: vec3<i32>) -> vec2<u32> {
+    let b = bucket(near);
+    let first = atomicLoad(&grid[b]);
+    return vec2<u32>(first, first + atomicLoad(&grid[params.contact_buckets + b]));
+}
+
+// Whether particle j, at `d` from the searching particle (of rest position
+// and cloth `home`), is its neighbour: in cell `near` itself (not only in
+// its bucket), within the cell size, and not closer at rest than the
+// exclusion radius.
+fn neighbour(j: u32, d: vec3<f32>, near: vec3<i32>, size: f32, home: vec4<f32>) -> bool {
+    return all(cell_of(position(j), size) == near) && dot(d, d) <= size * size && !rest_near(home, j);
+}
+
 // Particle i's candidates: the particles (of higher index: each pair once)
 // and triangles within thickness + margin of it, less the rest-near ones.
 @compute @workgroup_size(256)
@@ -299,13 +437,11 @@ fn find(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) 
         for (var dy = -1; dy <= 1; dy++) {
             for (var dx = -1; dx <= 1; dx++) {
                 let near = cell + vec3<i32>(dx, dy, dz);
-                let b = bucket(near);
-                let first = atomicLoad(&grid[b]);
-                let last = first + atomicLoad(&grid[params.contact_buckets + b]);
-                for (var s = first; s < last; s++) {
+                let slots = cell_slots(near);
+                for (var s = slots.x; s < slots.y; s++) {
                     let j = atomicLoad(&grid[sorted + s]);
                     let d = position(j) - p;
-                    if any(cell_of(position(j), size) != near) || dot(d, d) > size * size || rest_near(home, j) {
+                    if !neighbour(j, d, near, size, home) {
                         continue;
                     }
                     if j > i && dot(d, d) < reach * reach {
@@ -319,6 +455,43 @@ fn find(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) 
                     }
                     for (var a = topology[owned_start + j]; a < topology[owned_start + j + 1u]; a++) {
                         consider_triangle(i, home, topology[owned + a], reach);
+                    }
+                }
+            }
+        }
+    }
+}
+
+// Particle i's edge pairs: those of the edges at it and at each neighbour
+// of higher index (consider_edges), less the rest-near ones. A kernel of
+// its own, run after `find` where the model has edges listed (paper's,
+// kernel_buffers.rs): the edge search inlined into `find`, though never
+// entered for cloth, doubled that kernel's time on lavapipe.
+@compute @workgroup_size(256)
+fn find_edges(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let k = flat_index(gid, groups);
+    if k >= params.particle_count {
+        return;
+    }
+    let sorted = 2u * params.contact_buckets;
+    let i = atomicLoad(&grid[sorted + k]);
+    if topology[incident_starts() + i] == topology[incident_starts() + i + 1u] {
+        return;
+    }
+    let p = position(i);
+    let home = rest[i];
+    let size = cell_size();
+    let cell = cell_of(p, size);
+    let reach = params.contact_thickness + margin();
+    for (var dz = -1; dz <= 1; dz++) {
+        for (var dy = -1; dy <= 1; dy++) {
+            for (var dx = -1; dx <= 1; dx++) {
+                let near = cell + vec3<i32>(dx, dy, dz);
+                let slots = cell_slots(near);
+                for (var s = slots.x; s < slots.y; s++) {
+                    let j = atomicLoad(&grid[sorted + s]);
+                    if j > i && neighbour(j, position(j) - p, near, size, home) {
+                        consider_edges(i, j, home, reach);
                     }
                 }
             }

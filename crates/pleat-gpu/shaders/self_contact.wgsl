@@ -1,6 +1,6 @@
 // Self-collision and cloth-cloth contact: the candidate pairs of the last
-// build (contact_grid.wgsl) as particle-particle and vertex-triangle
-// proximity contacts within the contact thickness, solved in
+// build (contact_grid.wgsl) as particle-particle, vertex-triangle and
+// (paper's) edge-edge proximity contacts within the contact thickness, solved in
 // CONTACT_ITERATIONS Jacobi iterations a substep (the CPU backend's): each
 // contact's corrections summed per particle in fixed point with integer
 // atomics (WGSL has no float atomics; integer sums do not depend on the
@@ -102,6 +102,52 @@ fn triangle_contact(i: u32, t: vec3<u32>) -> bool {
     return true;
 }
 
+// Keeps edges a and b at the thickness from each other at their closest
+// points, on the side they were on at the substep's start, with friction
+// on the points' relative motion; whether it acted. Edges found on the
+// other side than they started, while they lay within two thicknesses
+// then, crossed: they are pulled back along their separation at the
+// start (the CPU backend finds the crossing by continuous detection).
+fn edge_contact(a: vec2<u32>, b: vec2<u32>) -> bool {
+    let h = params.contact_thickness;
+    let a0 = position(a.x);
+    let a1 = position(a.y);
+    let b0 = position(b.x);
+    let b1 = position(b.y);
+    let st = segment_closest(a0, a1, b0, b1);
+    let weights = vec4<f32>(1.0 - st.x, st.x, 1.0 - st.y, st.y);
+    let diff = mix(a0, a1, st.x) - mix(b0, b1, st.y);
+    let before = mix(prev[a.x].xyz, prev[a.y].xyz, st.x) - mix(prev[b.x].xyz, prev[b.y].xyz, st.y);
+    let dist = length(diff);
+    var n = diff / dist;
+    var height = dist;
+    if dot(diff, before) <= 0.0 && dot(before, before) < 4.0 * h * h {
+        let gone = length(before);
+        if gone <= 0.0 {
+            return false;
+        }
+        n = before / gone;
+        height = dot(diff, n);
+    }
+    // Not `height >= h`: edges that meet at a point (n is NaN) are left.
+    if !(height < h) || any(n != n) {
+        return false;
+    }
+    let w = vec4<f32>(inv_mass(a.x), inv_mass(a.y), inv_mass(b.x), inv_mass(b.y)) * weights;
+    let denom = dot(w, weights);
+    if denom <= 0.0 {
+        return false;
+    }
+    let s = (h - height) / denom;
+    let f = friction(diff - before, n, h - height) / denom;
+    let push = n * s - f;
+    add_correction(a.x, push * w.x);
+    add_correction(a.y, push * w.y);
+    add_correction(b.x, -push * w.z);
+    add_correction(b.y, -push * w.w);
+    return true;
+}
+
 // Candidate k's contact, if its pair is within the thickness; whether it
 // acted.
 fn contact(k: u32) -> bool {
@@ -110,6 +156,9 @@ fn contact(k: u32) -> bool {
     }
     let i = atomicLoad(&candidates[HEADER + 2u * k]);
     let other = atomicLoad(&candidates[HEADER + 2u * k + 1u]);
+    if (i & EDGE_PAIR) != 0u {
+        return edge_contact(edge(i & ~EDGE_PAIR), edge(other));
+    }
     if (other & PARTICLE_PAIR) != 0u {
         return particle_contact(i, other & ~PARTICLE_PAIR);
     }

@@ -108,6 +108,9 @@ pub struct SelfContactKernels {
     /// `bound` and `check`, then the build's in the order they run:
     /// clear, count, scan_blocks, scan_sums, scan_add, scatter, find.
     pub grid: [wgpu::ComputePipeline; 2 + BUILD_KERNELS],
+    /// The edge pairs of a build, after `find` on `find`'s workgroups,
+    /// where the model has paper (find_edges).
+    pub find_edges: wgpu::ComputePipeline,
     /// The indirect dispatches' counts, arm_build and arm_solve, and the
     /// margin after a frame, choose_margin.
     pub arm: [wgpu::ComputePipeline; 3],
@@ -245,6 +248,7 @@ impl Kernels {
                 .map(|e| pipeline(shaders::MOMENTUM, e, &with_kernel)),
             self_contact: SelfContactKernels {
                 grid: entries(shaders::CONTACT_GRID, |m, e| pipeline(m, e, &with_kernel)),
+                find_edges: pipeline(shaders::CONTACT_GRID, "find_edges", &with_kernel),
                 arm: entries(shaders::CONTACT_DISPATCH, |m, e| {
                     pipeline(m, e, &with_kernel)
                 }),

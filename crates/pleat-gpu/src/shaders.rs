@@ -110,7 +110,7 @@ pub const JACOBI: Module = module!("jacobi", ["correct", "gather"]);
 
 /// Self-contacts' broad phase: the displacements' range and the stale
 /// check, then a build's hash grid (clear, count, prefix sum, scatter) and
-/// candidate pairs.
+/// candidate pairs, then paper's edge pairs.
 pub const CONTACT_GRID: Module = module!(
     "contact_grid",
     [CONTACT_LIB],
@@ -123,7 +123,8 @@ pub const CONTACT_GRID: Module = module!(
         "scan_sums",
         "scan_add",
         "scatter",
-        "find"
+        "find",
+        "find_edges"
     ]
 );
 /// The self-contacts' indirect dispatch counts, the build's and the

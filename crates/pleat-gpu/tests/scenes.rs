@@ -374,6 +374,74 @@ fn a_towel_dragged_by_a_sphere_at_10_m_s_leaves_no_crossings_on_the_gpu() {
     assert!(off.iter().any(|&n| n > 0), "{off:?}");
 }
 
+/// A strip of paper 1 x 0.1 as a FOLD file: one rectangle, no crease.
+const PAPER_STRIP: &str = r#"{ "file_spec": 1.1,
+    "vertices_coords": [[0, 0], [1, 0], [1, 0.1], [0, 0.1]],
+    "edges_vertices": [[0, 1], [1, 2], [2, 3], [3, 0]],
+    "edges_assignment": ["B", "B", "B", "B"],
+    "faces_vertices": [[0, 1, 2, 3]] }"#;
+
+/// Two such strips of paper crossed like an X, 2 cm thick, on a floor
+/// under the sheets' x-y plane (gravity along -z): the lower lies on the
+/// floor, the upper (turned a quarter, 5 cm up) drops on it.
+/// Each strip's corners lie beyond the other strip, so no vertex meets a
+/// triangle: only their long edges meet, where the strips cross.
+fn crossed_paper_strips(dir: &Path) -> pleat::scene::Scene {
+    std::fs::create_dir_all(dir).unwrap();
+    std::fs::write(dir.join("strip.fold"), PAPER_STRIP).unwrap();
+    let turned = PAPER_STRIP.replace(
+        "[[0, 0], [1, 0], [1, 0.1], [0, 0.1]]",
+        "[[0, 0], [0.1, 0], [0.1, 1], [0, 1]]",
+    );
+    std::fs::write(dir.join("turned.fold"), turned).unwrap();
+    let pattern = |name: &str| dir.join(name).display().to_string();
+    scene(&format!(
+        r#"{{ "frames": 40, "fps": 60, "gravity": [0, 0, -9.81],
+        "solver": {{ "substeps": 10, "self_collision": {{ "enabled": true, "thickness": 0.02 }} }},
+        "cloths": [
+          {{ "mesh": {{ "pattern": {{ "path": "{}", "size": 1.0, "center": [0, 0, 0.002] }} }} }},
+          {{ "mesh": {{ "pattern": {{ "path": "{}", "size": 1.0, "center": [0, 0, 0.05] }} }} }} ],
+        "colliders": [ {{ "shape": {{ "plane": {{ "normal": [0, 0, 1] }} }} }} ] }}"#,
+        pattern("strip.fold"),
+        pattern("turned.fold")
+    ))
+}
+
+/// The lowest height (z) of the upper strip of [`crossed_paper_strips`]
+/// after its frames: the lower one lies at 5 mm, the floor's distance.
+fn upper_strip_lowest(mut sim: Simulation, scene: &pleat::scene::Scene) -> f32 {
+    run(&mut sim, scene, scene.frames);
+    let m = sim.metrics();
+    assert!(!m.nan && !m.unstable, "{m:?}");
+    let upper = sim.model.cloths[1].particles();
+    sim.particles.x[upper]
+        .iter()
+        .map(|p| p.z)
+        .fold(f32::MAX, f32::min)
+}
+
+/// Paper's edges keep its layers apart on the GPU as on the CPU: crossed
+/// strips of paper rest on each other a thickness apart, and without
+/// self-contact the upper falls through the lower to the floor.
+#[test]
+fn crossed_paper_strips_rest_on_each_other_on_both_backends() {
+    let dir = std::env::temp_dir().join(format!("pleat-crossed-strips-{}", std::process::id()));
+    let mut scene = crossed_paper_strips(&dir);
+    for (backend, sim) in [("cpu", cpu(&scene)), ("gpu", gpu(&scene))] {
+        let lowest = upper_strip_lowest(sim, &scene);
+        assert!(lowest > 0.02, "{backend}: the upper strip sank to {lowest}");
+    }
+    scene.solver.self_collision.enabled = false;
+    for (backend, sim) in [("cpu", cpu(&scene)), ("gpu", gpu(&scene))] {
+        let lowest = upper_strip_lowest(sim, &scene);
+        assert!(
+            lowest < 0.01,
+            "{backend}: without contacts the upper strip stayed at {lowest}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// The shipped fold_onto_itself (64 x 64): the hanging cloth falls onto the
 /// floor cloth and folds onto itself, with no crossing at any 10th frame of
 /// its fall, landing and settling (the first two seconds); without

@@ -2,10 +2,12 @@
 // candidate pairs, self_contact.wgsl solves them).
 //
 // candidates: a header, then the pairs found at the last build, two words
-// each: a particle, then a triangle or, with PARTICLE_PAIR set, a particle.
+// each: a particle, then a triangle or, with PARTICLE_PAIR set, a
+// particle; or, with EDGE_PAIR set in the first, two edges.
 // rest: [0, N) rest positions with the cloth's index in w, [N, 2N) the
 // positions at the last build with how far each vertex's owned triangles
-// reached from it then in w (contact_grid.wgsl's `owned_span`).
+// reached from it then in w (contact_grid.wgsl's `owned_span`), [2N, 3N)
+// the vertices' edge summaries at that build (`edge_summary`).
 
 // Header words of `candidates`: the pairs found at the last build;
 // nonzero while no particle has moved half the margin since that build
@@ -34,9 +36,72 @@ const WAIT: u32 = 15u;
 const HEADER: u32 = 16u;
 // A candidate's second word names a particle, not a triangle.
 const PARTICLE_PAIR: u32 = 0x80000000u;
+// A candidate's first word names an edge, and its second word another.
+const EDGE_PAIR: u32 = 0x80000000u;
 
 fn triangle(k: u32) -> vec3<u32> {
     return vec3<u32>(topology[3u * k], topology[3u * k + 1u], topology[3u * k + 2u]);
+}
+
+// topology holds, after the triangles and the triangles each vertex owns,
+// each particle's edges in compressed rows (starts, then edge indices),
+// then each edge's two ends and the vertices opposite it in its
+// triangles (NO_VERTEX where it has one).
+fn incident_starts() -> u32 {
+    return 4u * params.triangle_count + params.particle_count + 1u;
+}
+
+fn incident_list() -> u32 {
+    return incident_starts() + params.particle_count + 1u;
+}
+
+const NO_VERTEX: u32 = 0xffffffffu;
+
+// Edge e's ends, then the vertices opposite it.
+fn edge_wings(e: u32) -> vec4<u32> {
+    let k = incident_list() + topology[incident_starts() + params.particle_count] + 4u * e;
+    return vec4<u32>(topology[k], topology[k + 1u], topology[k + 2u], topology[k + 3u]);
+}
+
+fn edge(e: u32) -> vec2<u32> {
+    return edge_wings(e).xy;
+}
+
+// Parameters (s along p0 p1, u along q0 q1) of the closest points of two
+// segments (Ericson 2005, 5.1.9), as the CPU backend's
+// `ccd::segment_closest_params`.
+fn segment_closest(p0: vec3<f32>, p1: vec3<f32>, q0: vec3<f32>, q1: vec3<f32>) -> vec2<f32> {
+    let d1 = p1 - p0;
+    let d2 = q1 - q0;
+    let r = p0 - q0;
+    let a = dot(d1, d1);
+    let e = dot(d2, d2);
+    let f = dot(d2, r);
+    if a <= 1.1920929e-7 && e <= 1.1920929e-7 {
+        return vec2<f32>(0.0);
+    }
+    if a <= 1.1920929e-7 {
+        return vec2<f32>(0.0, clamp(f / e, 0.0, 1.0));
+    }
+    let c = dot(d1, r);
+    if e <= 1.1920929e-7 {
+        return vec2<f32>(clamp(-c / a, 0.0, 1.0), 0.0);
+    }
+    let b = dot(d1, d2);
+    let denom = a * e - b * b;
+    var s = 0.0;
+    if denom > 0.0 {
+        s = clamp((b * f - c * e) / denom, 0.0, 1.0);
+    }
+    var u = (b * s + f) / e;
+    if u < 0.0 {
+        u = 0.0;
+        s = clamp(-c / a, 0.0, 1.0);
+    } else if u > 1.0 {
+        u = 1.0;
+        s = clamp((b - c) / a, 0.0, 1.0);
+    }
+    return vec2<f32>(s, u);
 }
 
 // Closest point on triangle abc to p, as barycentric weights (Ericson 2005).

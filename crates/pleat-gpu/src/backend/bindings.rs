@@ -30,6 +30,8 @@ pub(super) struct SelfContactStage {
     pub(super) args: wgpu::Buffer,
     /// Jacobi iterations a substep ([`pleat::collide::self_contact::iterations`]).
     pub(super) iterations: u32,
+    /// Whether a build takes edge pairs (the model has paper).
+    pub(super) edge_pairs: bool,
 }
 
 /// Every kernel with its bind group, in the order a substep runs them.
@@ -230,6 +232,7 @@ impl Stages {
                 kernels: kernels.self_contact.clone(),
                 args: c.args.clone(),
                 iterations: c.iterations,
+                edge_pairs: c.edge_pairs,
             }),
             collide: (!b.collider_shapes.is_empty()).then(|| {
                 stage(

@@ -49,11 +49,13 @@ pub(super) struct KernelBuffers {
 pub(super) struct SelfContactBuffers {
     /// Bucket counts and starts, fill counters, sorted particles, scan sums.
     pub(super) grid: wgpu::Buffer,
-    /// Triangles, then the triangles each vertex owns (compressed rows).
+    /// Triangles, then the triangles each vertex owns and the edges at
+    /// each vertex (compressed rows), then the edges' ends.
     pub(super) topology: wgpu::Buffer,
     /// Rest positions with the cloth's index in w, then the positions at
     /// the last build with how far each vertex's owned triangles reached
-    /// from it then in w.
+    /// from it then in w, then the vertices' edge summaries at that build
+    /// (each one's normal where it is flat, and its longest edge).
     pub(super) rest: wgpu::Buffer,
     /// Fixed-point corrections and contact counts per particle.
     pub(super) accum: wgpu::Buffer,
@@ -73,6 +75,9 @@ pub(super) struct SelfContactBuffers {
     /// Jacobi iterations a substep, the CPU backend's
     /// ([`pleat::collide::self_contact::iterations`]).
     pub(super) iterations: u32,
+    /// Whether builds take edge pairs: some edges are listed under their
+    /// ends (paper's, [`incident_edges`]).
+    pub(super) edge_pairs: bool,
     /// Whether it has been said that they cannot grow.
     pub(super) told_full: bool,
 }
@@ -132,8 +137,13 @@ impl SelfContactBuffers {
         let buckets = (2 * n).next_power_of_two().max(crate::kernels::WORKGROUP);
         let grid_len = 2 * buckets as u64 + n as u64 + (buckets / crate::kernels::WORKGROUP) as u64;
         let (start, owned) = owned_triangles(model);
-        let topology: Vec<u32> = [triangles, &start, &owned].concat();
-        let mut rest = vec![[0.0; 4]; 2 * n as usize];
+        let edges = incident_edges(model);
+        // The rows' last start: how many edges are listed under their ends.
+        let edge_pairs = edges[model.particle_count()] > 0;
+        let topology: Vec<u32> = [triangles, &start, &owned, &edges].concat();
+        // Rest positions, then the positions at the build and the vertices'
+        // edge summaries (written on the GPU).
+        let mut rest = vec![[0.0; 4]; 3 * n as usize];
         for (k, cloth) in model.cloths.iter().enumerate() {
             for i in cloth.particles() {
                 rest[i] = model.rest[i].extend(k as f32).to_array();
@@ -156,6 +166,7 @@ impl SelfContactBuffers {
             exclusion,
             capacity: capacity as u32,
             iterations: pleat::collide::self_contact::iterations(model) as u32,
+            edge_pairs,
             told_full: false,
         }
     }
@@ -248,6 +259,53 @@ fn owned_triangles(model: &Model) -> (Vec<u32>, Vec<u32>) {
     let incidence = Incidence::new(&model.triangles, model.particle_count(), lowest);
     let (start, slots) = incidence.rows();
     (start.to_vec(), slots.iter().map(|s| s.element).collect())
+}
+
+/// Each edge of paper under both its ends, in compressed rows (starts,
+/// then edges), then each edge's two ends and the vertices opposite it in
+/// its triangles (`u32::MAX` where it has one): the edge-edge search takes
+/// the edges at either end of a pair of neighbouring particles, and culls
+/// flat edges in parallel layers.
+///
+/// Only paper takes edge pairs: its facets are large against its
+/// thickness, so two layers' edges cross where no corner comes near the
+/// other layer (a flap's edge across another's), and it folds slowly,
+/// rebuilding its candidates about one substep in seven. Cloth finer than
+/// a few thicknesses is held by its vertex-triangle contacts (the shipped
+/// scenes end with no crossing at any 10th frame on the GPU), and its
+/// builds at nearly every substep paid twice the frame's time for edge
+/// pairs (fold_onto_itself, lavapipe).
+fn incident_edges(model: &Model) -> Vec<u32> {
+    let mut paper = vec![false; model.particle_count()];
+    for cloth in model.cloths.iter().filter(|c| c.paper.is_some()) {
+        paper[cloth.particles()].fill(true);
+    }
+    let incidence = Incidence::new(&model.edges, model.particle_count(), |e| {
+        if paper[e.v[0] as usize] {
+            &e.v
+        } else {
+            &[]
+        }
+    });
+    let (start, slots) = incidence.rows();
+    let edges = slots.iter().map(|s| s.element);
+    // The cloths' edges, in the model's order; none without paper (a
+    // large cloth's would fill a buffer that nothing reads).
+    let wings: Vec<[u32; 4]> = if paper.contains(&true) {
+        (model.cloths.iter())
+            .flat_map(|c| {
+                c.topology.edges.iter().map(move |e| {
+                    let local = [Some(e.v[0]), Some(e.v[1]), e.opposite[0], e.opposite[1]];
+                    local.map(|k| k.map_or(u32::MAX, |k| k + c.offset))
+                })
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
+    debug_assert!(wings.iter().zip(&model.edges).all(|(w, e)| w[..2] == e.v));
+    let wings = wings.into_iter().flatten();
+    start.iter().copied().chain(edges).chain(wings).collect()
 }
 
 impl PerSubstep {

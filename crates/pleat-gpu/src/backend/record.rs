@@ -44,6 +44,10 @@ impl SelfContactStage {
         for (slot, kernel) in build.iter().enumerate() {
             n += self.indirect(pass, kernel, slot);
         }
+        if self.edge_pairs {
+            // On `find`'s workgroups, the build's last.
+            n += self.indirect(pass, &self.kernels.find_edges, BUILD_KERNELS - 1);
+        }
         n
     }
 
