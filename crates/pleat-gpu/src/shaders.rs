@@ -45,7 +45,6 @@ const HINGE_LIB: &str = include_str!("../shaders/lib/hinge.wgsl");
 const MOMENTUM_LIB: &str = include_str!("../shaders/lib/momentum.wgsl");
 /// Self-contacts' candidate layout and closest points.
 const CONTACT_LIB: &str = include_str!("../shaders/lib/contact.wgsl");
-const CONTACT_SOLVE_LIB: &str = include_str!("../shaders/lib/contact_solve.wgsl");
 
 macro_rules! module {
     ($name:literal, [$($entry:literal),+]) => {
@@ -138,7 +137,7 @@ pub const CONTACT_DISPATCH: Module = module!(
 /// Self-contacts' Jacobi solve over the candidates.
 pub const SELF_CONTACT: Module = module!(
     "self_contact",
-    [CONTACT_LIB, CONTACT_SOLVE_LIB],
+    [CONTACT_LIB],
     ["contacts", "counted_contacts", "apply"]
 );
 
@@ -152,15 +151,8 @@ pub const MOMENTUM: Module = module!("momentum", [MOMENTUM_LIB], ["sum_blocks", 
 pub const PERSISTENT: Module = module!(
     "persistent",
     "",
-    [
-        MOTION_LIB,
-        DISTANCE_LIB,
-        HINGE_LIB,
-        MOMENTUM_LIB,
-        CONTACT_LIB,
-        CONTACT_SOLVE_LIB
-    ],
-    ["frame", "frame_with_contacts"]
+    [MOTION_LIB, DISTANCE_LIB, HINGE_LIB, MOMENTUM_LIB],
+    ["frame"]
 );
 
 /// Every module of the backend.
