@@ -144,7 +144,7 @@ const page = await browser.newPage({ viewport: RUN });
 page.setDefaultNavigationTimeout(180000);
 const logs = [];
 page.on("console", (m) => logs.push(`${m.type()}: ${m.text()}`));
-page.on("pageerror", (e) => logs.push(`pageerror: ${e.message}`));
+page.on("pageerror", (e) => logs.push(`pageerror: ${e.stack ?? e.message}`));
 
 let failed = false;
 async function check(name, body) {

@@ -231,6 +231,7 @@ impl PySimulation {
 
     /// Drags `particle` towards `target` (m) from the next step on, until
     /// [`release`](Self::release); `compliance` (m/N) zero puts it there.
+    /// The target moves there at a hand's speed (`pleat::GRAB_SPEED`).
     #[pyo3(signature = (particle, target, compliance = 0.0))]
     fn grab(&self, particle: u32, target: [f32; 3], compliance: f32) -> PyResult<()> {
         let mut session = self.lock()?;

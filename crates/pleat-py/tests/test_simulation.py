@@ -123,8 +123,12 @@ def thickness(points):
 
 def test_grab_drags_a_particle_to_the_target_until_released(sim):
     target = (0.3, 1.2, -0.1)
+    start = sim.positions[0].copy()
     sim.grab(0, target)
-    sim.step(3)
+    sim.step(1)
+    # At a hand's speed: at most 5 m/s over the frame of 1/60 s.
+    assert np.linalg.norm(sim.positions[0] - start) <= 5.0 / 60.0 + 1e-4
+    sim.step(60)
     np.testing.assert_allclose(sim.positions[0], target, atol=1e-4)
     sim.release()
     sim.step(10)

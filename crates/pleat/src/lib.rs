@@ -74,6 +74,6 @@ pub use glam;
 pub use material::Material;
 pub use model::Model;
 pub use particles::Particles;
-pub use simulation::Simulation;
+pub use simulation::{Simulation, GRAB_SPEED};
 pub use solver::{SolverKind, SolverSettings};
 pub use world::World;

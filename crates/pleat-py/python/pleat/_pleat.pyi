@@ -125,7 +125,8 @@ class Simulation:
         """The live settings."""
     def grab(self, particle: int, target: _Vec3, compliance: float = 0.0) -> None:
         """Drags ``particle`` towards ``target`` (m) from the next step on,
-        until ``release``; ``compliance`` (m/N) zero puts it there."""
+        until ``release``; ``compliance`` (m/N) zero puts it there. The
+        target moves there at a hand's speed (at most 5 m/s)."""
     def release(self) -> None:
         """Lets go of the grabbed particle, if any."""
     def report(self) -> Dict[str, Any]:
