@@ -217,7 +217,8 @@ fn scan_add(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgrou
 }
 
 // Particle i into its bucket; its position and its owned triangles' span
-// noted as at the build.
+// noted as at the build, and its edge summary where the rest buffer has
+// room for them (a model with edge pairs).
 @compute @workgroup_size(256)
 fn scatter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let i = flat_index(gid, groups);
@@ -226,7 +227,9 @@ fn scatter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroup
         let slot = atomicLoad(&grid[b]) + atomicAdd(&grid[params.contact_buckets + b], 1u);
         atomicStore(&grid[2u * params.contact_buckets + slot], i);
         rest[params.particle_count + i] = vec4<f32>(position(i), owned_span(i));
-        rest[2u * params.particle_count + i] = edge_summary(i);
+        if arrayLength(&rest) >= 3u * params.particle_count {
+            rest[2u * params.particle_count + i] = edge_summary(i);
+        }
     }
 }
 

@@ -141,9 +141,11 @@ impl SelfContactBuffers {
         // The rows' last start: how many edges are listed under their ends.
         let edge_pairs = edges[model.particle_count()] > 0;
         let topology: Vec<u32> = [triangles, &start, &owned, &edges].concat();
-        // Rest positions, then the positions at the build and the vertices'
-        // edge summaries (written on the GPU).
-        let mut rest = vec![[0.0; 4]; 3 * n as usize];
+        // Rest positions, then the positions at the build and, where there
+        // are edge pairs, the vertices' edge summaries (written on the GPU;
+        // a cloth-only model saves their N x 16 bytes).
+        let blocks = if edge_pairs { 3 } else { 2 };
+        let mut rest = vec![[0.0; 4]; blocks * n as usize];
         for (k, cloth) in model.cloths.iter().enumerate() {
             for i in cloth.particles() {
                 rest[i] = model.rest[i].extend(k as f32).to_array();
