@@ -302,29 +302,11 @@ fn distance2(p: vec3<f32>, q: vec3<f32>) -> f32 {
     return dot(p - q, p - q);
 }
 
-// Cosine of 15 degrees: an edge whose triangles lie within it of each
-// other is flat, and two flat edges whose normals do (either way up) lie
-// in parallel layers, which the vertex-triangle contacts keep apart both
-// ways: they are no candidate (as on the CPU backend).
-const PARALLEL: f32 = 0.9659258;
-
 // Cosine of 5 degrees: a vertex whose edges are flat with normals within
 // it of the first edge's is flat, and two flat vertices whose normals lie
 // within it of each other have every pair of their edges within 15
 // degrees: parallel, no candidate.
 const VERTEX_PARALLEL: f32 = 0.9961947;
-
-// The unit normal of edge `e` (ends, then wings) if it is flat, else zero.
-fn flat_normal(e: vec4<u32>) -> vec3<f32> {
-    if e.z == NO_VERTEX || e.w == NO_VERTEX {
-        return vec3<f32>(0.0);
-    }
-    let a = position(e.x);
-    let along = position(e.y) - a;
-    let n = normalize(cross(along, position(e.z) - a));
-    let m = normalize(cross(position(e.w) - a, along));
-    return select(vec3<f32>(0.0), n, dot(n, m) > PARALLEL);
-}
 
 // What the edge search needs of vertex i at a build: its unit normal if
 // it is flat (VERTEX_PARALLEL), else zero, and the length of its longest

@@ -3,7 +3,15 @@
 // dispatch (crate::backend::persistent). It runs what the per-colour
 // kernels run for paper, in the same order: the prediction, the hinges
 // and distances by colour, the strain limits' sweeps, each free cloth's
-// turn, the hinges' tracking and the velocity update.
+// turn, the hinges' tracking and the velocity update; with thickness
+// (`frame_with_contacts`), the sheet's self-contacts before the velocity
+// update, over every pair of particles, of a vertex and a triangle or of
+// two edges that the rest mesh does not keep apart (listed by the host),
+// each tried only where the two features' boxes over the substep come
+// within the thickness, in the Jacobi iterations of self_contact.wgsl.
+// The pairs within the thickness plus a margin are kept over substeps
+// while no particle has moved half the margin (as contact_grid.wgsl keeps
+// its candidates).
 
 @group(0) @binding(0) var<storage, read_write> pos: array<vec4<f32>>;
 @group(0) @binding(1) var<storage, read_write> prev: array<vec4<f32>>;
@@ -18,6 +26,27 @@
 @group(1) @binding(3) var<storage, read_write> hinge_lambda: array<f32>;
 @group(1) @binding(5) var<storage, read_write> left: array<vec4<f32>>;
 @group(1) @binding(6) var<uniform> program: Program;
+// This dispatch's first substep and how many a dispatch runs (a frame is
+// split where a CPU adapter would cut a long one short).
+@group(1) @binding(7) var<uniform> chunk: vec4<u32>;
+// The self-contacts' topology (lib/contact.wgsl), then the pairs (two
+// words each, as self_contact.wgsl's candidates), then the frame's counts.
+@group(2) @binding(0) var<storage, read_write> topology: array<u32>;
+
+// Per particle: the contacts' correction x, y, z in fixed point and their
+// count (lib/contact_solve.wgsl), for up to MAX_CONTACT_PARTICLES.
+var<workgroup> accum: array<atomic<i32>, 2048>;
+// The contacts that acted in the frame's last iterations.
+var<workgroup> contacts_acted: atomic<u32>;
+// The kept pairs (`keep_pairs`), whether a particle moved beyond half the
+// margin since their build, and whether this substep builds them.
+var<workgroup> kept: atomic<u32>;
+var<workgroup> moved: atomic<u32>;
+var<workgroup> rebuilding: u32;
+// The pairs solved in the frame so far (alike in every invocation), and
+// the builds (counted by the first).
+var<private> solved: u32;
+var<private> builds: u32;
 
 // The substep this invocation runs.
 var<private> params: Params;
@@ -98,9 +127,9 @@ fn sweep_strain_limits(t: u32) {
     sweep_strain_limits_in_workgroup(t, THREADS, program.strain_limit_sweeps);
 }
 
-// One substep: the prediction with the multipliers cleared, the
-// iterations, the strain limits, the free cloths' turns, the tracking and
-// the velocity update.
+// One substep up to the self-contacts: the prediction with the
+// multipliers cleared, the iterations, the strain limits, the free
+// cloths' turns and the tracking.
 fn substep(t: u32) {
     for (var i = t; i < params.particle_count; i += THREADS) {
         predict_particle(i);
@@ -135,16 +164,187 @@ fn substep(t: u32) {
     for (var j = t; j < program.hinge_count; j += THREADS) {
         track_hinge(j);
     }
+}
+
+// The velocity update that ends a substep.
+fn finish_substep(t: u32) {
     for (var i = t; i < params.particle_count; i += THREADS) {
         update_velocity(i);
     }
     storageBarrier();
 }
 
+// The box of particle i over the substep (its start and now).
+fn swept(i: u32) -> array<vec3<f32>, 2> {
+    let p = position(i);
+    let q = prev[i].xyz;
+    return array<vec3<f32>, 2>(min(p, q), max(p, q));
+}
+
+fn merged(a: array<vec3<f32>, 2>, b: array<vec3<f32>, 2>) -> array<vec3<f32>, 2> {
+    return array<vec3<f32>, 2>(min(a[0], b[0]), max(a[1], b[1]));
+}
+
+// Whether two boxes come within `reach` of each other.
+fn boxes_near(a: array<vec3<f32>, 2>, b: array<vec3<f32>, 2>, reach: f32) -> bool {
+    return all(a[0] <= b[1] + reach) && all(b[0] <= a[1] + reach);
+}
+
+// Pair k's two features' boxes over the substep (as at a build, where
+// the substep's start is its end).
+fn pair_boxes(k: u32) -> array<array<vec3<f32>, 2>, 2> {
+    let first = topology[program.contact_pairs_start + 2u * k];
+    let second = topology[program.contact_pairs_start + 2u * k + 1u];
+    if (first & EDGE_PAIR) != 0u {
+        let a = edge(first & ~EDGE_PAIR);
+        let b = edge(second);
+        return array<array<vec3<f32>, 2>, 2>(merged(swept(a.x), swept(a.y)), merged(swept(b.x), swept(b.y)));
+    }
+    if (second & PARTICLE_PAIR) != 0u {
+        return array<array<vec3<f32>, 2>, 2>(swept(first), swept(second & ~PARTICLE_PAIR));
+    }
+    let v = triangle(second);
+    return array<array<vec3<f32>, 2>, 2>(swept(first), merged(merged(swept(v.x), swept(v.y)), swept(v.z)));
+}
+
+// Pair k's contact, where the features' boxes over the substep come
+// within the thickness (nothing farther can touch or have crossed);
+// whether it acted.
+fn pair_contact(k: u32) -> bool {
+    let boxes = pair_boxes(k);
+    if !boxes_near(boxes[0], boxes[1], params.contact_thickness) {
+        return false;
+    }
+    let first = topology[program.contact_pairs_start + 2u * k];
+    let second = topology[program.contact_pairs_start + 2u * k + 1u];
+    if (first & EDGE_PAIR) != 0u {
+        return edge_contact(edge(first & ~EDGE_PAIR), edge(second));
+    }
+    if (second & PARTICLE_PAIR) != 0u {
+        return particle_contact(first, second & ~PARTICLE_PAIR);
+    }
+    return triangle_contact(first, triangle(second));
+}
+
+// Whether pair k is of two edges flat in parallel layers, which the
+// vertex-triangle contacts keep apart both ways: no pair to keep (as at a
+// build of contact_grid.wgsl).
+fn parallel_edges(k: u32) -> bool {
+    let first = topology[program.contact_pairs_start + 2u * k];
+    if (first & EDGE_PAIR) == 0u {
+        return false;
+    }
+    let second = topology[program.contact_pairs_start + 2u * k + 1u];
+    return abs(dot(flat_normal(edge_wings(first & ~EDGE_PAIR)), flat_normal(edge_wings(second)))) > PARALLEL;
+}
+
+// The pairs kept at the last build follow the frame's three counts in
+// `topology`, then the positions at that build, three words a particle.
+fn kept_start() -> u32 {
+    return program.contact_counts + 3u;
+}
+
+fn build_start() -> u32 {
+    return kept_start() + program.contact_pairs;
+}
+
+fn build_position(i: u32) -> vec3<f32> {
+    let k = build_start() + 3u * i;
+    return bitcast<vec3<f32>>(vec3<u32>(topology[k], topology[k + 1u], topology[k + 2u]));
+}
+
+// Keeps the pairs whose features lie within the thickness plus the margin
+// (a build), where this is the dispatch's first substep or some particle
+// moved more than half the margin since the last build: a pair left out
+// cannot have come within the thickness, nor crossed, since. Kept pairs
+// are listed in no fixed order; their corrections' sums do not depend on
+// it.
+fn keep_pairs(t: u32, first_substep: bool) {
+    let half = 0.5 * params.contact_margin;
+    for (var i = t; i < params.particle_count; i += THREADS) {
+        let d = position(i) - build_position(i);
+        if first_substep || dot(d, d) > half * half {
+            atomicStore(&moved, 1u);
+        }
+    }
+    workgroupBarrier();
+    if t == 0u {
+        rebuilding = atomicLoad(&moved);
+        atomicStore(&moved, 0u);
+        if rebuilding != 0u {
+            atomicStore(&kept, 0u);
+            builds += 1u;
+        }
+    }
+    // Every invocation meets every barrier: the build's loops alone are
+    // conditional.
+    let build = workgroupUniformLoad(&rebuilding) != 0u;
+    let reach = params.contact_thickness + params.contact_margin;
+    for (var k = t; build && k < program.contact_pairs; k += THREADS) {
+        let boxes = pair_boxes(k);
+        if boxes_near(boxes[0], boxes[1], reach) && !parallel_edges(k) {
+            topology[kept_start() + atomicAdd(&kept, 1u)] = k;
+        }
+    }
+    for (var i = t; build && i < params.particle_count; i += THREADS) {
+        let k = build_start() + 3u * i;
+        let p = bitcast<vec3<u32>>(position(i));
+        topology[k] = p.x;
+        topology[k + 1u] = p.y;
+        topology[k + 2u] = p.z;
+    }
+    workgroupBarrier();
+    storageBarrier();
+}
+
+// The substep's self-contacts: the kept pairs in Jacobi iterations, each
+// iteration's corrections applied once all are summed; the last
+// iteration's acting contacts counted.
+fn self_contacts(t: u32, first_substep: bool) {
+    keep_pairs(t, first_substep);
+    let count = atomicLoad(&kept);
+    let last = program.contact_iterations - 1u;
+    for (var iteration = 0u; iteration <= last; iteration++) {
+        for (var j = t; j < count; j += THREADS) {
+            if pair_contact(topology[kept_start() + j]) && iteration == last {
+                atomicAdd(&contacts_acted, 1u);
+            }
+        }
+        workgroupBarrier();
+        for (var i = t; i < params.particle_count; i += THREADS) {
+            apply_correction(i);
+        }
+        storageBarrier();
+    }
+    solved += count;
+}
+
 @compute @workgroup_size(THREADS)
 fn frame(@builtin(local_invocation_index) t: u32) {
-    for (var s = 0u; s < program.substeps; s++) {
+    for (var s = chunk.x; s < min(chunk.x + chunk.y, program.substeps); s++) {
         params = substeps[s].p;
         substep(t);
+        finish_substep(t);
+    }
+}
+
+// A frame with self-contacts; the pairs solved, the contacts that acted
+// and the builds are added to the counts in `topology` at
+// `contact_counts` (read back and cleared by the host's health check),
+// then the kept pairs and their build's positions.
+@compute @workgroup_size(THREADS)
+fn frame_with_contacts(@builtin(local_invocation_index) t: u32) {
+    for (var s = chunk.x; s < min(chunk.x + chunk.y, program.substeps); s++) {
+        params = substeps[s].p;
+        substep(t);
+        storageBarrier();
+        self_contacts(t, s == chunk.x);
+        finish_substep(t);
+    }
+    workgroupBarrier();
+    if t == 0u {
+        topology[program.contact_counts] += solved;
+        topology[program.contact_counts + 1u] += atomicLoad(&contacts_acted);
+        topology[program.contact_counts + 2u] += builds;
     }
 }

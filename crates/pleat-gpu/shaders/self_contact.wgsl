@@ -13,140 +13,8 @@
 // (zero again once applied).
 @group(1) @binding(3) var<storage, read_write> accum: array<atomic<i32>>;
 
-const FIXED: f32 = 16777216.0;
-
 // Contacts of the workgroup that acted.
 var<workgroup> acted: atomic<u32>;
-
-fn add_correction(i: u32, dx: vec3<f32>) {
-    let q = vec3<i32>(round(dx * FIXED));
-    atomicAdd(&accum[4u * i], q.x);
-    atomicAdd(&accum[4u * i + 1u], q.y);
-    atomicAdd(&accum[4u * i + 2u], q.z);
-    atomicAdd(&accum[4u * i + 3u], 1);
-}
-
-// The tangential part of the relative motion `relative` over the substep
-// that Coulomb friction removes at penetration depth `depth`: all of it
-// when it is within the static cone, else `kinetic * depth` of it.
-fn friction(relative: vec3<f32>, n: vec3<f32>, depth: f32) -> vec3<f32> {
-    let tangential = relative - n * dot(relative, n);
-    let slide = length(tangential);
-    if slide < params.contact_static * depth {
-        return tangential;
-    }
-    if slide > 0.0 {
-        return tangential * min(params.contact_kinetic * depth / slide, 1.0);
-    }
-    return vec3<f32>(0.0);
-}
-
-// Keeps particles i and j at the thickness from each other; whether it
-// acted.
-fn particle_contact(i: u32, j: u32) -> bool {
-    let h = params.contact_thickness;
-    let d = position(i) - position(j);
-    let len = length(d);
-    let wi = inv_mass(i);
-    let wj = inv_mass(j);
-    if len >= h || len <= 0.0 || wi + wj == 0.0 {
-        return false;
-    }
-    let n = d / len;
-    let s = (h - len) / (wi + wj);
-    let f = friction((position(i) - prev[i].xyz) - (position(j) - prev[j].xyz), n, h - len) / (wi + wj);
-    add_correction(i, n * (s * wi) - f * wi);
-    add_correction(j, f * wj - n * (s * wj));
-    return true;
-}
-
-// Keeps particle i at the thickness from triangle t on the side it was on,
-// with friction on their relative motion; whether it acted.
-fn triangle_contact(i: u32, t: vec3<u32>) -> bool {
-    let h = params.contact_thickness;
-    let p = position(i);
-    let a = position(t.x);
-    let b = position(t.y);
-    let c = position(t.z);
-    let bary = closest_barycentric(p, a, b, c);
-    let q = bary.x * a + bary.y * b + bary.z * c;
-    if distance(p, q) >= h {
-        return false;
-    }
-    let normal = cross(b - a, c - a);
-    let area2 = length(normal);
-    if area2 <= 0.0 {
-        return false;
-    }
-    let pa = prev[t.x].xyz;
-    let prev_normal = cross(prev[t.y].xyz - pa, prev[t.z].xyz - pa);
-    let side = select(-1.0, 1.0, dot(prev[i].xyz - pa, prev_normal) >= 0.0);
-    let n = normal / area2 * side;
-    let gap = dot(p - q, n) - h;
-    if gap >= 0.0 {
-        return false;
-    }
-    let w = vec4<f32>(inv_mass(i), inv_mass(t.x), inv_mass(t.y), inv_mass(t.z));
-    let denom = w.x + dot(bary * bary, w.yzw);
-    if denom <= 0.0 {
-        return false;
-    }
-    let s = -gap / denom;
-    let motion = (p - prev[i].xyz) - (bary.x * (a - prev[t.x].xyz) + bary.y * (b - prev[t.y].xyz) + bary.z * (c - prev[t.z].xyz));
-    // The friction impulse shares the normal one's weights.
-    let f = friction(motion, n, -gap) / denom;
-    add_correction(i, n * (s * w.x) - f * w.x);
-    add_correction(t.x, (n * (-s) + f) * (bary.x * w.y));
-    add_correction(t.y, (n * (-s) + f) * (bary.y * w.z));
-    add_correction(t.z, (n * (-s) + f) * (bary.z * w.w));
-    return true;
-}
-
-// Keeps edges a and b at the thickness from each other at their closest
-// points, on the side they were on at the substep's start, with friction
-// on the points' relative motion; whether it acted. Edges found on the
-// other side than they started, while they lay within two thicknesses
-// then, crossed: they are pulled back along their separation at the
-// start (the CPU backend finds the crossing by continuous detection).
-fn edge_contact(a: vec2<u32>, b: vec2<u32>) -> bool {
-    let h = params.contact_thickness;
-    let a0 = position(a.x);
-    let a1 = position(a.y);
-    let b0 = position(b.x);
-    let b1 = position(b.y);
-    let st = segment_closest(a0, a1, b0, b1);
-    let weights = vec4<f32>(1.0 - st.x, st.x, 1.0 - st.y, st.y);
-    let diff = mix(a0, a1, st.x) - mix(b0, b1, st.y);
-    let before = mix(prev[a.x].xyz, prev[a.y].xyz, st.x) - mix(prev[b.x].xyz, prev[b.y].xyz, st.y);
-    let dist = length(diff);
-    var n = diff / dist;
-    var height = dist;
-    if dot(diff, before) <= 0.0 && dot(before, before) < 4.0 * h * h {
-        let gone = length(before);
-        if gone <= 0.0 {
-            return false;
-        }
-        n = before / gone;
-        height = dot(diff, n);
-    }
-    // Not `height >= h`: edges that meet at a point (n is NaN) are left.
-    if !(height < h) || any(n != n) {
-        return false;
-    }
-    let w = vec4<f32>(inv_mass(a.x), inv_mass(a.y), inv_mass(b.x), inv_mass(b.y)) * weights;
-    let denom = dot(w, weights);
-    if denom <= 0.0 {
-        return false;
-    }
-    let s = (h - height) / denom;
-    let f = friction(diff - before, n, h - height) / denom;
-    let push = n * s - f;
-    add_correction(a.x, push * w.x);
-    add_correction(a.y, push * w.y);
-    add_correction(b.x, -push * w.z);
-    add_correction(b.y, -push * w.w);
-    return true;
-}
 
 // Candidate k's contact, if its pair is within the thickness; whether it
 // acted.
@@ -187,16 +55,7 @@ fn counted_contacts(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_
 @compute @workgroup_size(256)
 fn apply(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let i = flat_index(gid, groups);
-    if i >= params.particle_count {
-        return;
-    }
-    let n = atomicExchange(&accum[4u * i + 3u], 0);
-    let sum = vec3<f32>(
-        f32(atomicExchange(&accum[4u * i], 0)),
-        f32(atomicExchange(&accum[4u * i + 1u], 0)),
-        f32(atomicExchange(&accum[4u * i + 2u], 0)),
-    );
-    if n > 0 && inv_mass(i) > 0.0 {
-        move_by(i, sum / (FIXED * f32(n)));
+    if i < params.particle_count {
+        apply_correction(i);
     }
 }

@@ -200,5 +200,12 @@ struct Program {
     // Sweeps of the strain limits before the further ones; 0 for none.
     strain_limit_sweeps: u32,
     free_parts: u32,
+    // Self-contacts (`frame_with_contacts`): the pairs, where they start in
+    // `topology`, the Jacobi iterations a substep, and where the frame's
+    // counts of pairs solved and contacts acted go in `topology`.
+    contact_pairs: u32,
+    contact_pairs_start: u32,
+    contact_iterations: u32,
+    contact_counts: u32,
     slices: array<vec4<u32>, 256>,
 }

@@ -102,6 +102,10 @@ pub struct HealthWatch {
     /// The self-contacts' candidates, whose header's counters come back
     /// with the result and are cleared then.
     contact_counts: Option<wgpu::Buffer>,
+    /// The persistent kernel's self-contact counters (solved, acted,
+    /// builds) and their offset in its buffer: they come back and are
+    /// cleared likewise, and are added to the candidates' ones.
+    persistent_counts: Option<(wgpu::Buffer, u64)>,
     /// The counters that came back and have not been taken yet.
     arrived_counts: Option<ContactCounts>,
 }
@@ -126,6 +130,10 @@ pub struct ContactCounts {
 /// the most found by a build that overflowed).
 const SUMMARY_BYTES: u64 = size_of::<Summary>() as u64;
 const COUNTERS: std::ops::Range<u64> = 8..24;
+/// Bytes of the persistent kernel's counters read back after those
+/// (shaders/persistent.wgsl: pairs solved, contacts that acted, builds;
+/// zero where it has none).
+const PERSISTENT_COUNTERS: u64 = 12;
 
 /// What [`HealthWatch::new`] binds besides its own buffers.
 pub struct HealthInputs<'a> {
@@ -180,7 +188,7 @@ impl HealthWatch {
             items,
             readback: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("health readback"),
-                size: size + (COUNTERS.end - COUNTERS.start),
+                size: size + (COUNTERS.end - COUNTERS.start) + PERSISTENT_COUNTERS,
                 usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
@@ -188,6 +196,7 @@ impl HealthWatch {
             measuring: None,
             in_flight: None,
             contact_counts: contact_counts.cloned(),
+            persistent_counts: None,
             arrived_counts: None,
         }
     }
@@ -231,8 +240,19 @@ impl HealthWatch {
             );
             encoder.clear_buffer(counts, COUNTERS.start, Some(len));
         }
+        if let Some((counts, offset)) = &self.persistent_counts {
+            let at = SUMMARY_BYTES + COUNTERS.end - COUNTERS.start;
+            encoder.copy_buffer_to_buffer(counts, *offset, &self.readback, at, PERSISTENT_COUNTERS);
+            encoder.clear_buffer(counts, *offset, Some(PERSISTENT_COUNTERS));
+        }
         self.measuring = Some(time);
         2
+    }
+
+    /// Reads the persistent kernel's self-contact counters too, the three
+    /// words at byte `offset` of `buffer`.
+    pub fn set_persistent_counts(&mut self, buffer: &wgpu::Buffer, offset: u64) {
+        self.persistent_counts = Some((buffer.clone(), offset));
     }
 
     /// Reads the self-contacts' counters from `candidates` from now on
@@ -274,12 +294,12 @@ impl HealthWatch {
             ARRIVED => {
                 let summary = self.readback.get_mapped_range(..).ok().map(|data| {
                     let (summary, counters) = data.split_at(SUMMARY_BYTES as usize);
-                    let [candidates, acted, builds, overflowed]: [u32; 4] =
+                    let [candidates, acted, builds, overflowed, solved, touched, kept]: [u32; 7] =
                         bytemuck::pod_read_unaligned(counters);
                     let arrived = self.arrived_counts.get_or_insert_default();
-                    arrived.candidates += u64::from(candidates);
-                    arrived.acted += u64::from(acted);
-                    arrived.builds += u64::from(builds);
+                    arrived.candidates += u64::from(candidates) + u64::from(solved);
+                    arrived.acted += u64::from(acted) + u64::from(touched);
+                    arrived.builds += u64::from(builds) + u64::from(kept);
                     arrived.overflowed = arrived.overflowed.max(u64::from(overflowed));
                     *bytemuck::from_bytes::<Summary>(summary)
                 });

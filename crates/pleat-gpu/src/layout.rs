@@ -96,7 +96,8 @@ fn params_match_wgsl() {
 fn persistent_program_matches_wgsl() {
     assert_mirrors!(Program as "Program" {
         substeps, iterations, hinge_colours, distance_colours, hinge_count,
-        distance_count, strain_limit_sweeps, free_parts, slices,
+        distance_count, strain_limit_sweeps, free_parts, contact_pairs,
+        contact_pairs_start, contact_iterations, contact_counts, slices,
     });
 }
 

@@ -45,6 +45,7 @@ const HINGE_LIB: &str = include_str!("../shaders/lib/hinge.wgsl");
 const MOMENTUM_LIB: &str = include_str!("../shaders/lib/momentum.wgsl");
 /// Self-contacts' candidate layout and closest points.
 const CONTACT_LIB: &str = include_str!("../shaders/lib/contact.wgsl");
+const CONTACT_SOLVE_LIB: &str = include_str!("../shaders/lib/contact_solve.wgsl");
 
 macro_rules! module {
     ($name:literal, [$($entry:literal),+]) => {
@@ -137,7 +138,7 @@ pub const CONTACT_DISPATCH: Module = module!(
 /// Self-contacts' Jacobi solve over the candidates.
 pub const SELF_CONTACT: Module = module!(
     "self_contact",
-    [CONTACT_LIB],
+    [CONTACT_LIB, CONTACT_SOLVE_LIB],
     ["contacts", "counted_contacts", "apply"]
 );
 
@@ -151,8 +152,15 @@ pub const MOMENTUM: Module = module!("momentum", [MOMENTUM_LIB], ["sum_blocks", 
 pub const PERSISTENT: Module = module!(
     "persistent",
     "",
-    [MOTION_LIB, DISTANCE_LIB, HINGE_LIB, MOMENTUM_LIB],
-    ["frame"]
+    [
+        MOTION_LIB,
+        DISTANCE_LIB,
+        HINGE_LIB,
+        MOMENTUM_LIB,
+        CONTACT_LIB,
+        CONTACT_SOLVE_LIB
+    ],
+    ["frame", "frame_with_contacts"]
 );
 
 /// Every module of the backend.

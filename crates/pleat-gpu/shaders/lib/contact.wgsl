@@ -140,3 +140,21 @@ fn closest_barycentric(p: vec3<f32>, a: vec3<f32>, b: vec3<f32>, c: vec3<f32>) -
     let w = vc * denom;
     return vec3<f32>(1.0 - v - w, v, w);
 }
+
+// Cosine of 15 degrees: an edge whose triangles lie within it of each
+// other is flat, and two flat edges whose normals do (either way up) lie
+// in parallel layers, which the vertex-triangle contacts keep apart both
+// ways: they are no candidate (as on the CPU backend).
+const PARALLEL: f32 = 0.9659258;
+
+// The unit normal of edge `e` (ends, then wings) if it is flat, else zero.
+fn flat_normal(e: vec4<u32>) -> vec3<f32> {
+    if e.z == NO_VERTEX || e.w == NO_VERTEX {
+        return vec3<f32>(0.0);
+    }
+    let a = position(e.x);
+    let along = position(e.y) - a;
+    let n = normalize(cross(along, position(e.z) - a));
+    let m = normalize(cross(position(e.w) - a, along));
+    return select(vec3<f32>(0.0), n, dot(n, m) > PARALLEL);
+}

@@ -136,11 +136,9 @@ impl SelfContactBuffers {
         let margin = CONTACT_MARGIN * thickness;
         let buckets = (2 * n).next_power_of_two().max(crate::kernels::WORKGROUP);
         let grid_len = 2 * buckets as u64 + n as u64 + (buckets / crate::kernels::WORKGROUP) as u64;
-        let (start, owned) = owned_triangles(model);
-        let edges = incident_edges(model);
+        let topology = contact_topology(model, triangles);
         // The rows' last start: how many edges are listed under their ends.
-        let edge_pairs = edges[model.particle_count()] > 0;
-        let topology: Vec<u32> = [triangles, &start, &owned, &edges].concat();
+        let edge_pairs = incident_edges(model)[model.particle_count()] > 0;
         // Rest positions, then the positions at the build and, where there
         // are edge pairs, the vertices' edge summaries (written on the GPU;
         // a cloth-only model saves their N x 16 bytes).
@@ -277,6 +275,85 @@ fn owned_triangles(model: &Model) -> (Vec<u32>, Vec<u32>) {
 /// scenes end with no crossing at any 10th frame on the GPU), and its
 /// builds at nearly every substep paid twice the frame's time for edge
 /// pairs (fold_onto_itself, lavapipe).
+/// The self-contacts' topology (lib/contact.wgsl): the flat `triangles`,
+/// the triangles each vertex owns and the edges at each vertex, in
+/// compressed rows, then the edges' ends and wings.
+pub(super) fn contact_topology(model: &Model, triangles: &[u32]) -> Vec<u32> {
+    let (start, owned) = owned_triangles(model);
+    [triangles, &start, &owned, &incident_edges(model)].concat()
+}
+
+/// Most particles of a sheet whose self-contacts the persistent kernel
+/// solves (`accum` in its workgroup memory, four words a particle).
+pub(super) const MAX_CONTACT_PARTICLES: usize = 512;
+/// Most contact pairs the persistent kernel lists (16 MiB of them): it
+/// walks them all at each build of the pairs it keeps.
+const MAX_CONTACT_PAIRS: usize = 1 << 21;
+
+/// Every particle, vertex-triangle and edge-edge pair of paper `model` that the rest
+/// mesh does not keep apart (sharing a particle, or of one cloth and closer
+/// at rest than `exclusion`), two words each as
+/// self_contact.wgsl's candidates; `None` where they are more than
+/// [`MAX_CONTACT_PAIRS`] or the model is not all paper, or too large.
+pub(super) fn contact_pairs(model: &Model, exclusion: f32) -> Option<Vec<u32>> {
+    use pleat::collide::ccd::{point_triangle_distance, segment_distance};
+    let n = model.particle_count();
+    if n > MAX_CONTACT_PARTICLES || model.cloths.iter().any(|c| c.paper.is_none()) {
+        return None;
+    }
+    let mut cloth = vec![0; n];
+    for (k, c) in model.cloths.iter().enumerate() {
+        cloth[c.particles()].fill(k);
+    }
+    let rest = &model.rest;
+    let mut pairs = Vec::new();
+    for i in 0..n {
+        for j in i + 1..n {
+            if cloth[i] != cloth[j] || rest[i].distance(rest[j]) >= exclusion {
+                pairs.extend([i as u32, j as u32 | PARTICLE_PAIR]);
+            }
+        }
+        for (t, v) in model.triangles.iter().enumerate() {
+            let kept_apart = v.contains(&(i as u32))
+                || (cloth[i] == cloth[v[0] as usize]
+                    && point_triangle_distance(
+                        rest[i],
+                        rest[v[0] as usize],
+                        rest[v[1] as usize],
+                        rest[v[2] as usize],
+                    ) < exclusion);
+            if !kept_apart {
+                pairs.extend([i as u32, t as u32]);
+            }
+        }
+        if pairs.len() > 2 * MAX_CONTACT_PAIRS {
+            return None;
+        }
+    }
+    let edges = &model.edges;
+    for (a, ea) in edges.iter().enumerate() {
+        for (b, eb) in edges.iter().enumerate().skip(a + 1) {
+            let [p0, p1] = ea.v.map(|k| k as usize);
+            let [q0, q1] = eb.v.map(|k| k as usize);
+            let kept_apart = ea.v.iter().any(|k| eb.v.contains(k))
+                || (cloth[p0] == cloth[q0]
+                    && segment_distance(rest[p0], rest[p1], rest[q0], rest[q1]) < exclusion);
+            if !kept_apart {
+                pairs.extend([a as u32 | EDGE_PAIR, b as u32]);
+            }
+        }
+        if pairs.len() > 2 * MAX_CONTACT_PAIRS {
+            return None;
+        }
+    }
+    Some(pairs)
+}
+
+/// Marks a pair's first word as an edge (`EDGE_PAIR` in lib/contact.wgsl).
+const EDGE_PAIR: u32 = 0x8000_0000;
+/// Marks a pair's second word as a particle (`PARTICLE_PAIR`).
+const PARTICLE_PAIR: u32 = 0x8000_0000;
+
 fn incident_edges(model: &Model) -> Vec<u32> {
     let mut paper = vec![false; model.particle_count()];
     for cloth in model.cloths.iter().filter(|c| c.paper.is_some()) {

@@ -1,8 +1,13 @@
 //! The persistent kernel (`shaders/persistent.wgsl`): for a small sheet
 //! whose constraints are hinges and distances alone (paper, free of pins,
-//! colliders, wind and self-contact), one workgroup runs every substep of
-//! a frame in one dispatch, colour after colour with a barrier between
-//! them, instead of a dispatch per colour, kind and substep. A crease
+//! colliders and wind), one workgroup runs every substep of a frame in one
+//! dispatch, colour after colour with a barrier between them, instead of a
+//! dispatch per colour, kind and substep. Paper with a thickness takes its
+//! self-contacts there too, over a list of pairs made once by the host
+//! (every vertex-triangle and edge-edge pair that the rest mesh does not
+//! keep apart), where the sheet and that list are small enough. On a CPU
+//! adapter a frame is split into dispatches short enough for its loop
+//! limit ([`CPU_LOOP_BUDGET`]). A crease
 //! pattern folds with 160 substeps of a few dozen constraints a colour:
 //! per-dispatch costs, not arithmetic, decide its frame time, and one
 //! workgroup holds every colour of it.
@@ -32,6 +37,21 @@ pub(super) const MAX_SUBSTEPS: u32 = 256;
 pub(super) const MAX_PARTICLES: usize = 2048;
 /// Invocations a CPU adapter runs at once: lanes of a 256-bit vector.
 const CPU_LANES: u32 = 8;
+/// Loop iterations an invocation may run in one dispatch on a CPU adapter.
+/// Mesa's llvmpipe (lavapipe) ends every loop of a shader once they have
+/// run 65,535 iterations together (`LP_MAX_TGSI_LOOP_ITERATIONS`), which
+/// cut a frame short without a word: Origami_Sphere_16Flaps.svg folded 12
+/// to 25 degrees off, helloworld.svg 33. A frame is split into dispatches
+/// of as many substeps as fit half of that, by [`loop_iterations`]; the
+/// other half is left to the strain limits' sweeps beyond the first ones,
+/// which run only while an edge stays beyond its slack.
+const CPU_LOOP_BUDGET: u32 = 32_768;
+/// Fewest substeps a dispatch with self-contacts runs on a CPU adapter;
+/// fewer, and the per-substep path is taken. Each dispatch builds its kept
+/// pairs anew from all the pairs: on lavapipe, hypar.svg with a thickness
+/// (a substep a dispatch) took 1,391 ms a frame against the per-substep
+/// path's 999, the crane (three a dispatch) 237 against 839.
+const MIN_CONTACT_CHUNK: u32 = 2;
 /// Colour slices and free cloths the program holds (`slices`).
 const SLICES: usize = 256;
 
@@ -48,18 +68,41 @@ pub(crate) struct Program {
     pub(crate) distance_count: u32,
     pub(crate) strain_limit_sweeps: u32,
     pub(crate) free_parts: u32,
+    pub(crate) contact_pairs: u32,
+    pub(crate) contact_pairs_start: u32,
+    pub(crate) contact_iterations: u32,
+    pub(crate) contact_counts: u32,
     pub(crate) slices: [[u32; 4]; SLICES],
 }
+
+/// A sheet's self-contacts as the persistent kernel solves them.
+pub(super) struct ContactPairs {
+    /// The self-contacts' topology (`contact_topology`), then the pairs
+    /// (`contact_pairs`).
+    pub(super) topology: Vec<u32>,
+    pub(super) pairs: Vec<u32>,
+    /// Jacobi iterations a substep.
+    pub(super) iterations: u32,
+}
+
+/// Storage buffers the kernel with self-contacts binds: one more than
+/// WebGPU's default limit.
+const CONTACT_STORAGE_BUFFERS: u32 = 9;
 
 /// The hinges and distances of a sheet the persistent kernel can run.
 pub(super) struct Sheet<'a> {
     pub(super) kinds: &'a [ConstraintBuffers],
     pub(super) table: &'a RangeTable,
     pub(super) strain_limit_sweeps: u32,
+    /// Gauss-Seidel iterations a substep.
+    pub(super) iterations: u32,
     pub(super) free_parts: &'a [std::ops::Range<usize>],
     pub(super) particles: usize,
-    /// Hard pins, colliders, self-contact: anything the kernel does not run.
+    /// Hard pins, colliders, self-contact but `contacts`: anything the
+    /// kernel does not run.
     pub(super) has_more: bool,
+    /// The self-contacts, where the kernel solves them.
+    pub(super) contacts: Option<ContactPairs>,
 }
 
 /// The persistent kernel, bound to a sheet's buffers.
@@ -70,6 +113,11 @@ pub(super) struct Persistent {
     kernel: wgpu::BindGroup,
     program: Program,
     program_buffer: wgpu::Buffer,
+    /// The self-contacts' topology, pairs and counts, and their bind group.
+    contacts: Option<(wgpu::Buffer, wgpu::BindGroup)>,
+    /// Substeps a dispatch runs (`chunk` in the kernel): a whole frame on a
+    /// GPU, fewer on a CPU adapter ([`CPU_LOOP_BUDGET`]).
+    chunk: u32,
 }
 
 /// The buffers the persistent kernel binds in group 0.
@@ -92,7 +140,35 @@ impl Persistent {
         left: Option<&wgpu::Buffer>,
         state: &StateBuffers<'_>,
     ) -> Option<Self> {
-        let program = program(sheet)?;
+        let mut program = program(sheet)?;
+        let with_contacts = sheet.contacts.as_ref().inspect(|c| {
+            program.contact_pairs = (c.pairs.len() / 2) as u32;
+            program.contact_pairs_start = c.topology.len() as u32;
+            program.contact_counts = (c.topology.len() + c.pairs.len()) as u32;
+            program.contact_iterations = c.iterations;
+        });
+        if with_contacts.is_some()
+            && device.limits().max_storage_buffers_per_shader_stage < CONTACT_STORAGE_BUFFERS
+        {
+            return None;
+        }
+        let threads = threads(&program, device_type);
+        let chunk = match device_type {
+            wgpu::DeviceType::Cpu => {
+                let per_substep = loop_iterations(&program, sheet, threads);
+                (CPU_LOOP_BUDGET / per_substep).min(MAX_SUBSTEPS)
+            }
+            _ => MAX_SUBSTEPS,
+        };
+        if chunk
+            < if with_contacts.is_some() {
+                MIN_CONTACT_CHUNK
+            } else {
+                1
+            }
+        {
+            return None;
+        }
         let kind = |k: ConstraintKind| sheet.kinds.iter().find(|c| c.kind == k);
         // WebGPU forbids one buffer in two writable slots of a group: an
         // absent kind binds spares of its own.
@@ -106,7 +182,44 @@ impl Persistent {
             contents: bytemuck::bytes_of(&program),
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         });
+        // Dispatch k's first substep and the substeps a dispatch runs, a
+        // slot of UNIFORM_STRIDE bytes each (a dynamic offset).
+        let slots: Vec<u32> = (0..MAX_SUBSTEPS)
+            .flat_map(|k| {
+                let mut slot = vec![0; UNIFORM_STRIDE as usize / 4];
+                slot[..2].copy_from_slice(&[k * chunk, chunk]);
+                slot
+            })
+            .collect();
+        let chunks = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("persistent chunks"),
+            contents: bytemuck::cast_slice(&slots),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
         let (state_layout, kernel_layout) = layouts(device);
+        let contact_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("persistent contacts"),
+            entries: &[storage(0)],
+        });
+        let contacts = with_contacts.map(|c| {
+            // Then the frame's three counts, the kept pairs and their
+            // build's positions (written by the kernel).
+            let room = 3 + c.pairs.len() / 2 + 3 * sheet.particles;
+            let words = [&c.topology[..], &c.pairs, &vec![0; room]].concat();
+            let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("persistent contacts"),
+                contents: bytemuck::cast_slice(&words),
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_SRC
+                    | wgpu::BufferUsages::COPY_DST,
+            });
+            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("persistent contacts"),
+                layout: &contact_layout,
+                entries: &[entry(0, &buffer)],
+            });
+            (buffer, group)
+        });
         let kernel = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("persistent sheet"),
             layout: &kernel_layout,
@@ -117,6 +230,14 @@ impl Persistent {
                 entry(3, hinge_lambda),
                 entry(5, left.unwrap_or(&spares[4])),
                 entry(6, &program_buffer),
+                wgpu::BindGroupEntry {
+                    binding: 7,
+                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &chunks,
+                        offset: 0,
+                        size: wgpu::BufferSize::new(16),
+                    }),
+                },
             ],
         });
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -125,15 +246,22 @@ impl Persistent {
         });
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("persistent"),
-            bind_group_layouts: &[Some(&state_layout), Some(&kernel_layout)],
+            bind_group_layouts: &[
+                Some(&state_layout),
+                Some(&kernel_layout),
+                contacts.as_ref().map(|_| &contact_layout),
+            ],
             immediate_size: 0,
         });
-        let threads = [("THREADS", threads(&program, device_type) as f64)];
+        let threads = [("THREADS", threads as f64)];
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("persistent frame"),
             layout: Some(&layout),
             module: &module,
-            entry_point: Some("frame"),
+            entry_point: Some(match contacts {
+                Some(_) => "frame_with_contacts",
+                None => "frame",
+            }),
             compilation_options: wgpu::PipelineCompilationOptions {
                 constants: &threads,
                 ..Default::default()
@@ -148,6 +276,8 @@ impl Persistent {
             kernel,
             program,
             program_buffer,
+            contacts,
+            chunk,
         })
     }
 
@@ -162,15 +292,16 @@ impl Persistent {
     }
 
     /// Records the frame's `substeps` substeps of `iterations` iterations
-    /// as one dispatch of one workgroup, stamped as the constraints of one
-    /// substep (the other stages' passes empty) where the frame is timed.
+    /// as dispatches of one workgroup (one on a GPU), stamped as the
+    /// constraints of one substep (the other stages' passes empty) where
+    /// the frame is timed; returns the dispatches.
     pub(super) fn record(
         &mut self,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
         (substeps, iterations): (u32, u32),
         timestamps: Option<&Timestamps>,
-    ) {
+    ) -> u32 {
         self.program.substeps = substeps;
         self.program.iterations = iterations;
         let header = &bytemuck::bytes_of(&self.program)[..8];
@@ -183,10 +314,25 @@ impl Persistent {
             if stage == TimedStage::Constraints {
                 pass.set_pipeline(&self.pipeline);
                 pass.set_bind_group(0, &self.state, &[]);
-                pass.set_bind_group(1, &self.kernel, &[]);
-                pass.dispatch_workgroups(1, 1, 1);
+                if let Some((_, group)) = &self.contacts {
+                    pass.set_bind_group(2, group, &[]);
+                }
+                for k in 0..substeps.div_ceil(self.chunk) {
+                    let slot = k * UNIFORM_STRIDE as u32;
+                    pass.set_bind_group(1, &self.kernel, &[slot]);
+                    pass.dispatch_workgroups(1, 1, 1);
+                }
             }
         }
+        substeps.div_ceil(self.chunk)
+    }
+
+    /// The self-contacts' counters (pairs solved, contacts that acted,
+    /// builds, summed over frames until the host clears them): the buffer
+    /// and their byte offset in it, where the kernel has contacts.
+    pub(super) fn contact_counts(&self) -> Option<(&wgpu::Buffer, u64)> {
+        let at = u64::from(self.program.contact_counts) * 4;
+        self.contacts.as_ref().map(|(buffer, _)| (buffer, at))
     }
 }
 
@@ -206,6 +352,37 @@ fn threads(program: &Program, device_type: wgpu::DeviceType) -> u32 {
         .max()
         .unwrap_or(0);
     largest.next_power_of_two().clamp(32, 256)
+}
+
+/// An upper bound on the loop iterations one invocation of `threads` runs
+/// in a substep of `sheet` (with `program`'s colours): the iterations'
+/// colours, the strain limits' first sweeps, the loops over particles and
+/// constraints and, with self-contacts, a build and every iteration over
+/// all the pairs.
+fn loop_iterations(program: &Program, sheet: &Sheet<'_>, threads: u32) -> u32 {
+    let rounds = |count: u32| count.div_ceil(threads);
+    let colours = |slices: &[[u32; 4]]| slices.iter().map(|s| 1 + rounds(s[1])).sum::<u32>();
+    let hinge_colours = program.hinge_colours as usize;
+    let distance_colours = hinge_colours + program.distance_colours as usize;
+    let hinges = colours(&program.slices[..hinge_colours]);
+    let distances = colours(&program.slices[hinge_colours..distance_colours]);
+    let parts = &program.slices[distance_colours..distance_colours + program.free_parts as usize];
+    let turns: u32 = parts
+        .iter()
+        .map(|p| 2 + rounds(p[1]) + p[1].div_ceil(64))
+        .sum();
+    let particles = rounds(sheet.particles as u32);
+    let constraints = rounds(program.distance_count) + 2 * rounds(program.hinge_count);
+    let contacts = sheet.contacts.as_ref().map_or(0, |c| {
+        let pairs = rounds((c.pairs.len() / 2) as u32);
+        3 * particles + (1 + c.iterations) * (1 + pairs + particles)
+    });
+    1 + sheet.iterations.max(1) * (1 + hinges + distances)
+        + program.strain_limit_sweeps * (1 + distances)
+        + 3 * particles
+        + constraints
+        + turns
+        + contacts
 }
 
 /// Whether the kernel can run `sheet`.
@@ -265,6 +442,10 @@ fn program(sheet: &Sheet<'_>) -> Option<Program> {
         distance_count: count(&distances),
         strain_limit_sweeps: sheet.strain_limit_sweeps,
         free_parts: parts.len() as u32,
+        contact_pairs: 0,
+        contact_pairs_start: 0,
+        contact_iterations: 0,
+        contact_counts: 0,
         slices: [[0; 4]; SLICES],
     };
     for (slot, r) in program.slices.iter_mut().zip(&all) {
@@ -305,6 +486,16 @@ fn layouts(device: &wgpu::Device) -> (wgpu::BindGroupLayout, wgpu::BindGroupLayo
             storage(3),
             storage(5),
             uniform(6, size_of::<Program>() as u64),
+            wgpu::BindGroupLayoutEntry {
+                binding: 7,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: true,
+                    min_binding_size: wgpu::BufferSize::new(16),
+                },
+                count: None,
+            },
         ],
     });
     (state, kernel)

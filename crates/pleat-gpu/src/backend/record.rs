@@ -168,13 +168,12 @@ impl GpuBackend {
         if persistent {
             let (queue, timestamps) = (&self.context.queue, self.timestamps.as_ref());
             if let Some(p) = &mut self.persistent {
-                p.record(
+                self.dispatches += p.record(
                     queue,
                     &mut encoder,
                     (substeps, settings.iterations),
                     timestamps,
                 );
-                self.dispatches += 1;
             }
         } else {
             let per_submit = substeps.div_ceil(SUBMITS_PER_FRAME);

@@ -5,7 +5,9 @@
 //! fold's strain limits change.
 
 use super::bindings::Stages;
-use super::kernel_buffers::{KernelBuffers, PerSubstep, SelfContactBuffers, StrainLimitBuffers};
+use super::kernel_buffers::{
+    self, KernelBuffers, PerSubstep, SelfContactBuffers, StrainLimitBuffers,
+};
 use super::persistent::{self, Persistent};
 use super::projection::{jacobi_projection, xpbd_projection, ConstraintKind, Projection};
 use super::ranges::RangeTable;
@@ -246,16 +248,27 @@ impl GpuBackend {
             contact_exclusion: contact.map_or(0.0, |c| c.exclusion),
             contact_capacity: contact.map_or(0, |c| c.capacity),
         };
+        // Paper's self-contacts, where the persistent kernel can take them.
+        let contacts = buffers.self_contact.as_ref().and_then(|c| {
+            let pairs = kernel_buffers::contact_pairs(model, c.exclusion)?;
+            Some(persistent::ContactPairs {
+                topology: kernel_buffers::contact_topology(model, &flat_triangles),
+                pairs,
+                iterations: c.iterations,
+            })
+        });
         let sheet = persistent::Sheet {
             kinds: &buffers.constraints,
             table: &table,
             strain_limit_sweeps,
+            iterations: settings.iterations,
             free_parts: &free_part_ranges,
             particles: n,
             has_more: settings.kind != SolverKind::Xpbd
                 || !hard_indices.is_empty()
                 || !buffers.collider_shapes.is_empty()
-                || buffers.self_contact.is_some(),
+                || (buffers.self_contact.is_some() && contacts.is_none()),
+            contacts,
         };
         // The persistent kernel binds the parameters of MAX_SUBSTEPS substeps.
         let may_persist = persistent::may_run(&sheet);
@@ -278,7 +291,7 @@ impl GpuBackend {
             &per_substep,
             &ranges,
         );
-        let health = HealthWatch::new(
+        let mut health = HealthWatch::new(
             device,
             &kernels,
             HealthInputs {
@@ -302,6 +315,9 @@ impl GpuBackend {
                 Persistent::new((device, context.device_type), &sheet, left, &state)
             })
             .flatten();
+        if let Some((counts, offset)) = persistent.as_ref().and_then(Persistent::contact_counts) {
+            health.set_persistent_counts(counts, offset);
+        }
         let touches = stages.collide.is_some() || stages.self_contact.is_some();
         let backend = GpuBackend {
             limits_after_contacts: limits_after_contacts && touches,
