@@ -345,6 +345,23 @@ try {
     assert.ok(opened.particles >= 5, JSON.stringify(opened));
     assert.equal(opened.last_error, null, "the bad drop's error went with the good drop");
   });
+  await check("a crash of the app says that it stopped and why", async () => {
+    await page.goto(`${base}?demo=wind&backend=gpu`);
+    await until(page, "the demo", (s) => s.demo === "wind" && s.frame >= 3);
+    await page.evaluate(() => window.pleatCrash("a test of the crash message"));
+    const end = Date.now() + 60000;
+    let said = null;
+    while (!said && Date.now() < end) {
+      said = await page.evaluate(() => window.pleatStopped);
+      if (!said) await page.waitForTimeout(250);
+    }
+    assert.match(said ?? "", /^pleat stopped: a test of the crash message \(at crates\/pleat-app\/src\/app\.rs:\d+\)\. Reload the page/);
+    const shown = await page.evaluate(() => {
+      const m = document.getElementById("message");
+      return !m.hidden && m.textContent;
+    });
+    assert.equal(shown, said);
+  });
   await check("without WebGPU the app runs on WebGL2 and the CPU, and says so", async () => {
     const webgl = await chromium.launch({
       executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium",

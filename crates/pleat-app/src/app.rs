@@ -461,6 +461,9 @@ fn compute_context(state: &eframe::egui_wgpu::RenderState) -> Option<GpuContext>
 impl eframe::App for PleatApp {
     fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
         let ctx = ui.ctx().clone();
+        if let Some(reason) = crate::platform::take_crash_request() {
+            panic!("{reason}");
+        }
         // Nothing is drawn on a lost device: egui's painter would fail
         // (natively it panics when its buffers cannot be written).
         if self.watch_device(&ctx) {

@@ -72,7 +72,30 @@ thread_local! {
 #[cfg(target_arch = "wasm32")]
 #[wasm_bindgen::prelude::wasm_bindgen(start)]
 pub fn start() {
+    note_panics_on_page();
     start_on_page();
+}
+
+/// Puts a panic's message and place in `window.pleatPanic` before the
+/// panic stops the app, so that the page can say why it stopped (eframe's
+/// own hook, installed later, logs it to the console and calls this one).
+#[cfg(target_arch = "wasm32")]
+fn note_panics_on_page() {
+    let previous = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let payload = info.payload();
+        let message = (payload.downcast_ref::<&str>().copied())
+            .or_else(|| payload.downcast_ref::<String>().map(String::as_str))
+            .unwrap_or("a panic");
+        let text = match info.location() {
+            Some(at) => format!("{message} (at {}:{})", at.file(), at.line()),
+            None => message.to_string(),
+        };
+        if let Some(window) = web_sys::window() {
+            let _ = js_sys::Reflect::set(&window, &"pleatPanic".into(), &text.into());
+        }
+        previous(info);
+    }));
 }
 
 /// Starts eframe on the page's canvas (again, after a lost device: a new

@@ -1,8 +1,8 @@
 //! What differs between the native window and the web page: where dropped
 //! files' bytes come from (a path, or an asynchronous browser read), where
 //! exports go (a file, or a download), how tests reach the app (the
-//! command line, or `window.pleatState`, `pleat_set` and
-//! `pleat_lose_device` on the page), and how the app starts again after
+//! command line, or `window.pleatState`, `pleat_set`, `pleat_lose_device`
+//! and `pleat_crash` on the page), and how the app starts again after
 //! its device was lost (a new window, or a new start on the page's canvas).
 
 use crate::probe::Probe;
@@ -55,6 +55,11 @@ mod native {
         false
     }
 
+    /// Natively a crash ends the process and says why on the terminal.
+    pub fn take_crash_request() -> Option<String> {
+        None
+    }
+
     /// Closes the window: `main` opens a new one, which resumes the run
     /// handed over ([`crate::recovery`]).
     pub fn restart(ctx: &egui::Context) {
@@ -71,6 +76,7 @@ mod web {
     thread_local! {
         static COMMANDS: RefCell<Vec<(String, f64)>> = const { RefCell::new(Vec::new()) };
         static LOSE_DEVICE: Cell<bool> = const { Cell::new(false) };
+        static CRASH: RefCell<Option<String>> = const { RefCell::new(None) };
     }
 
     /// Loses the app's WebGPU device (`GPUDevice.destroy()`) at the next
@@ -84,6 +90,18 @@ mod web {
     /// Whether the page asked to lose the device since the last frame.
     pub fn take_lose_request() -> bool {
         LOSE_DEVICE.with(|l| l.replace(false))
+    }
+
+    /// Makes the app panic with `reason` at its next frame, as a bug would
+    /// stop it: the page's hook for tests that a crash is shown.
+    #[wasm_bindgen]
+    pub fn pleat_crash(reason: &str) {
+        CRASH.with(|c| *c.borrow_mut() = Some(reason.to_string()));
+    }
+
+    /// The reason the page asked the app to crash with, if it did.
+    pub fn take_crash_request() -> Option<String> {
+        CRASH.with(|c| c.borrow_mut().take())
     }
 
     /// Starts the app again on the page's canvas (after the current
