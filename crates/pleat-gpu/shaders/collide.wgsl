@@ -157,7 +157,25 @@ fn contact(x: ptr<function, vec3<f32>>, x_prev: vec3<f32>, reach: f32, c: Collid
     } else if slide > 0.0 {
         *x -= tangential * min(c.kinetic_friction * depth / slide, 1.0);
     }
+    push_out(x, reach, c, pose);
     return true;
+}
+
+// Most further pushes out of a collider a contact makes (contact.rs's PUSHES).
+const PUSHES: u32 = 8u;
+
+// Pushes again, along the surface's normal, a particle that its contact
+// left within `reach` of the collider: a distance field's interpolated
+// gradient only approximates the normal, and friction moves a particle
+// along the tangent, inside a concave surface (contact.rs's `push_out`).
+fn push_out(x: ptr<function, vec3<f32>>, reach: f32, c: Collider, pose: Pose) {
+    for (var k = 0u; k < PUSHES; k++) {
+        let s = signed_distance(c, point_to(pose.end_inverse, *x));
+        if !(s.w < reach) {
+            return;
+        }
+        *x += vector_to(pose.end, s.xyz) * (reach - s.w);
+    }
 }
 
 @compute @workgroup_size(256)

@@ -685,3 +685,48 @@ fn cloth_drapes_on_the_generated_torus_knot() {
     );
     assert!(resting > 100, "only {resting} particles rest on the knot");
 }
+
+#[test]
+fn a_contact_with_the_baked_bunny_leaves_no_particle_within_its_thickness() {
+    // Points within a thickness of the baked bunny (bunny_sdf.json's scale
+    // and cell), each resolved by one contact with no motion. Pushed once
+    // along the interpolated gradient, some stopped short of the offset
+    // surface where the field bends: that scene ended a run with a particle
+    // 0.5 mm inside the bunny.
+    use pleat::collide::{project_contacts, Collider, ColliderPose, Friction, Motion};
+    let (cell, thickness) = (0.01, 0.005);
+    let grid = Arc::new(SdfGrid::bake(&shipped_mesh("bunny.obj", 0.05), cell).unwrap());
+    let shape = Shape::Sdf(grid.clone());
+    let friction = Friction {
+        static_coefficient: 0.0,
+        kinetic_coefficient: 0.0,
+    };
+    let collider = Collider::scripted(shape, Motion::default(), friction);
+    let near: Vec<Vec3> = random_points(grid.bounds(), 0.0, 20_000)
+        .into_iter()
+        .filter(|&p| grid.signed_distance(p).0.abs() < thickness)
+        .collect();
+    assert!(near.len() > 100, "{} points near the surface", near.len());
+    let mut x = near.clone();
+    let pose = ColliderPose::over(&collider, 0.0, 0.0);
+    let touched = project_contacts(
+        &mut x,
+        &near,
+        &vec![1.0; near.len()],
+        &vec![thickness; near.len()],
+        &[collider],
+        &[pose],
+    );
+    assert!(touched > 0);
+    let short = x
+        .iter()
+        .map(|&p| grid.signed_distance(p).0)
+        .filter(|&d| d < thickness * 0.99)
+        .count();
+    assert_eq!(
+        short,
+        0,
+        "of {} points, {short} left within the thickness",
+        near.len()
+    );
+}
