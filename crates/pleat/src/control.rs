@@ -37,16 +37,6 @@ impl Control {
         }
     }
 
-    /// This control grabbing with `grab`, its target moving on from the
-    /// position beside it, or nothing grabbed with `None`.
-    pub fn with_grab(self, grab: Option<(Grab, Vec3)>) -> Control {
-        Control {
-            grab: grab.map(|(g, _)| g),
-            grab_from: grab.map(|(_, from)| from),
-            ..self
-        }
-    }
-
     /// The control of substep `k` (from 0) of `substeps`: the grab's target
     /// `(k + 1) / substeps` of the way from `grab_from` to the frame's.
     pub fn at_substep(&self, k: u32, substeps: u32) -> Control {

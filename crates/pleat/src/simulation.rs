@@ -236,6 +236,7 @@ impl Simulation {
         } else if let Some(ramp) = self.fold_ramp {
             self.set_fold_progress(ramp.at(self.frames_stepped + 1));
         }
+        let grab = self.grab_this_frame(frame_dt);
         let control = Control {
             frame_dt,
             fold: FoldDrive {
@@ -243,10 +244,9 @@ impl Simulation {
                 held: !new_step && self.stepped_progress == self.fold_progress,
                 flat: self.settings.self_collision.enabled,
             },
-            grab: None,
-            grab_from: None,
-        }
-        .with_grab(self.grab_this_frame(frame_dt));
+            grab: grab.map(|(g, _)| g),
+            grab_from: grab.map(|(_, from)| from),
+        };
         self.stepped_progress = self.fold_progress;
         self.stepped_grab = control.grab;
         self.backend.step(
