@@ -11,13 +11,21 @@ use pleat::origami::{
     CreasePattern, PatternError, Sheet, SheetOptions,
 };
 
-fn shared_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../patterns/shared")
+/// The folder of `patterns/` named `name`.
+fn patterns_dir(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../patterns")
+        .join(name)
 }
 
-fn pattern_files() -> Vec<PathBuf> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(shared_dir())
-        .expect("patterns/shared exists")
+fn shared_dir() -> PathBuf {
+    patterns_dir("shared")
+}
+
+/// The crease-pattern files in `dir`, sorted.
+fn pattern_files_in(dir: &Path) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
         .map(|entry| entry.expect("readable entry").path())
         .filter(|p| {
             matches!(
@@ -28,6 +36,10 @@ fn pattern_files() -> Vec<PathBuf> {
         .collect();
     files.sort();
     files
+}
+
+fn pattern_files() -> Vec<PathBuf> {
+    pattern_files_in(&shared_dir())
 }
 
 fn name(path: &Path) -> String {
@@ -478,26 +490,135 @@ fn import_and_build(file: &str, text: &str) {
 #[test]
 fn mutated_files_never_panic() {
     let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+    for path in pattern_files() {
+        mutate_and_import(&name(&path), &std::fs::read(&path).unwrap(), &mut rng);
+    }
+    // A flat-folded state with its layer order (`faceOrders`), as `pleat
+    // check --folded-out` writes it.
+    let sheet = Sheet::from_pattern(
+        &pleat::origami::builtin("waterbomb-base").unwrap(),
+        &SheetOptions::default(),
+    )
+    .unwrap();
+    let folded = pleat::origami::FlatFolded::solve(&sheet).unwrap();
+    let text = folded.to_fold_json(&sheet, "waterbomb-base").to_string();
+    mutate_and_import("folded.fold", text.as_bytes(), &mut rng);
+}
+
+/// Imports `bytes` (the file `file`) cut short at 40 places and with 150
+/// random mutations of one to four bytes each.
+fn mutate_and_import(file: &str, bytes: &[u8], rng: &mut Rng) {
     // Bytes that matter to the grammars.
     let interesting = b"0123456789.-+eE,; \n<>/\"=[]{}:MmLlHhVvZzCc#";
-    for path in pattern_files() {
-        let file = name(&path);
-        let bytes = std::fs::read(&path).unwrap();
-        for k in 1..=40 {
-            let cut = bytes.len() * k / 41;
-            import_and_build(&file, &String::from_utf8_lossy(&bytes[..cut]));
-        }
-        for _ in 0..150 {
-            let mut mutated = bytes.clone();
-            for _ in 0..1 + rng.below(4) {
-                let at = rng.below(mutated.len());
-                mutated[at] = match rng.below(3) {
-                    0 => rng.next() as u8,
-                    1 => interesting[rng.below(interesting.len())],
-                    _ => mutated[at] ^ (1 << rng.below(8)),
-                };
-            }
-            import_and_build(&file, &String::from_utf8_lossy(&mutated));
-        }
+    for k in 1..=40 {
+        let cut = bytes.len() * k / 41;
+        import_and_build(file, &String::from_utf8_lossy(&bytes[..cut]));
     }
+    for _ in 0..150 {
+        let mut mutated = bytes.to_vec();
+        for _ in 0..1 + rng.below(4) {
+            let at = rng.below(mutated.len());
+            mutated[at] = match rng.below(3) {
+                0 => rng.next() as u8,
+                1 => interesting[rng.below(interesting.len())],
+                _ => mutated[at] ^ (1 << rng.below(8)),
+            };
+        }
+        import_and_build(file, &String::from_utf8_lossy(&mutated));
+    }
+}
+
+/// Every pattern here with a layer order, written as its flat-folded state
+/// (`pleat check --folded-out`: the vertices where they land, in 2D, the
+/// triangles as faces and their `faceOrders`, no creases), reads back into
+/// its own mountains and valleys: folded flat, only the layer order tells
+/// which way each crease went; the lines the fold leaves flat come back as
+/// facet lines. With the orders reversed every crease comes back the other
+/// way; without them, unassigned.
+#[test]
+fn a_flat_folded_state_reads_back_into_its_mountains_and_valleys() {
+    use pleat::origami::{builtin, check_flat_foldability, FlatFolded, BUILTIN_NAMES};
+    let mut patterns: Vec<(String, CreasePattern)> = BUILTIN_NAMES
+        .iter()
+        .map(|&name| (name.to_owned(), builtin(name).unwrap()))
+        .collect();
+    for dir in ["shared", "fold-examples", "origami-simulator"] {
+        let files = pattern_files_in(&patterns_dir(dir));
+        patterns.extend(files.iter().map(|p| (name(p), load_pattern(p).unwrap())));
+    }
+    let mut read_back = Vec::new();
+    for (file, pattern) in &patterns {
+        // As `pleat check` does: only a pattern flat-foldable as drawn.
+        let flat = check_flat_foldability(pattern).unwrap();
+        if !flat.is_flat_foldable() || flat.vertices_skipped > 0 {
+            continue;
+        }
+        let sheet = Sheet::from_pattern(pattern, &SheetOptions::default()).unwrap();
+        let Ok(folded) = FlatFolded::solve(&sheet) else {
+            continue;
+        };
+        let json = folded.to_fold_json(&sheet, file);
+        let creases = |json: &serde_json::Value| {
+            let again = parse_fold(&json.to_string()).unwrap_or_else(|e| panic!("{file}: {e}"));
+            let by_edge: std::collections::HashMap<[usize; 2], Assignment> = again
+                .edges
+                .iter()
+                .map(|e| ([e.v[0].min(e.v[1]), e.v[0].max(e.v[1])], e.assignment))
+                .collect();
+            sheet
+                .hinges
+                .iter()
+                .filter(|h| {
+                    matches!(
+                        h.assignment,
+                        Assignment::Mountain | Assignment::Valley | Assignment::Flat
+                    )
+                })
+                .map(|h| {
+                    let key = [h.v[0].min(h.v[1]), h.v[0].max(h.v[1])].map(|v| v as usize);
+                    (h.assignment, by_edge[&key])
+                })
+                .collect::<Vec<_>>()
+        };
+        let creases_with_orders = creases(&json);
+        let wrong: Vec<_> = creases_with_orders
+            .iter()
+            .filter(|(was, is)| was != is)
+            .collect();
+        assert!(
+            wrong.is_empty(),
+            "{file}: {} of {} creases read back wrong, the first {:?}",
+            wrong.len(),
+            creases_with_orders.len(),
+            &wrong[..wrong.len().min(4)]
+        );
+        // The sheet seen from its back: every order and crease reversed.
+        let mut reversed = json.clone();
+        for order in reversed["faceOrders"].as_array_mut().unwrap() {
+            order[2] = (-order[2].as_i64().unwrap()).into();
+        }
+        let flipped = |a: Assignment| match a {
+            Assignment::Mountain => Assignment::Valley,
+            Assignment::Valley => Assignment::Mountain,
+            other => other,
+        };
+        assert!(
+            creases(&reversed)
+                .iter()
+                .all(|&(was, is)| is == flipped(was)),
+            "{file}"
+        );
+        let mut without = json.clone();
+        without.as_object_mut().unwrap().remove("faceOrders");
+        assert!(
+            creases(&without).iter().all(|&(was, is)| is
+                == match was {
+                    Assignment::Flat => Assignment::Flat,
+                    _ => Assignment::Unassigned,
+                }),
+            "{file}"
+        );
+        read_back.push(file.clone());
+    }
+    assert!(read_back.len() >= 19, "{read_back:?}");
 }

@@ -12,7 +12,9 @@
 //! `edges_foldAngle` (degrees; the sign is taken from the assignment for M
 //! and V, `null` means none). When `edges_vertices` is absent the edges are
 //! taken from `faces_vertices` (an edge used by one face is a boundary, the
-//! others unassigned). Every other key is ignored. Errors name the JSON path.
+//! others unassigned). A folded state's `faceOrders` give the direction of
+//! its creases folded flat, which the faces' normals cannot. Every other key
+//! is ignored. Errors name the JSON path.
 
 use std::collections::{HashMap, HashSet};
 
@@ -20,7 +22,7 @@ use glam::{DVec2, DVec3};
 use serde_json::{Map, Value};
 
 use super::pattern::{Assignment, CreasePattern, PatternEdge, PatternError};
-use super::unfold::{edge_key, face_edges, unfold, Dihedral};
+use super::unfold::{edge_key, face_edges, unfold, Dihedral, FaceOrders};
 
 /// Largest distance of a vertex from the plane of the pattern, relative to
 /// the pattern size (coordinates written from single precision are good
@@ -50,17 +52,24 @@ pub fn parse_fold(text: &str) -> Result<CreasePattern, PatternError> {
         Some(value) => edges_from_edges_vertices(&root, value, points.len())?,
         None => edges_from_faces(faces.as_deref())?,
     };
+    // The layer order is checked wherever there are faces to order.
+    let orders = match &faces {
+        Some(faces) => face_orders(&root, faces.len())?,
+        None => FaceOrders::new(),
+    };
     match (flat, faces) {
         // A crease pattern labelled as a folded form (some editors write
         // one so) reads as it is; a flat-folded state is unfolded.
         (Ok(vertices), Some(faces)) if labelled_folded => {
-            match folded_form(&points, &faces, edges.clone()) {
+            match folded_form(&points, &faces, edges.clone(), &orders) {
                 Ok((pattern, true)) => Ok(pattern),
                 _ => Ok(CreasePattern { vertices, edges }),
             }
         }
         (Ok(vertices), _) => Ok(CreasePattern { vertices, edges }),
-        (Err(_), Some(faces)) => folded_form(&points, &faces, edges).map(|(pattern, _)| pattern),
+        (Err(_), Some(faces)) => {
+            folded_form(&points, &faces, edges, &orders).map(|(pattern, _)| pattern)
+        }
         (Err(off_plane), None) => Err(off_plane),
     }
 }
@@ -73,19 +82,21 @@ fn is_folded_form(root: &Map<String, Value>) -> bool {
 }
 
 /// The crease pattern a folded state unfolds from, each crease's target
-/// its fold angle in the folded state (where the file gives none), and
-/// whether any edge is folded.
+/// its fold angle in the folded state (where the file gives none; a flat
+/// fold's direction from the file's `faceOrders`), and whether any edge is
+/// folded.
 fn folded_form(
     points: &[DVec3],
     faces: &[Vec<usize>],
     mut edges: Vec<PatternEdge>,
+    orders: &FaceOrders,
 ) -> Result<(CreasePattern, bool), PatternError> {
     let walls: HashSet<[usize; 2]> = edges
         .iter()
         .filter(|e| matches!(e.assignment, Assignment::Boundary | Assignment::Cut))
         .map(|e| edge_key(e.v))
         .collect();
-    let mut unfolded = unfold(points, faces, |key| !walls.contains(&key))?;
+    let mut unfolded = unfold(points, faces, |key| !walls.contains(&key), orders)?;
     if seen_from_the_back(&edges, &unfolded.dihedrals) {
         unfolded.turn_over();
     }
@@ -104,6 +115,59 @@ fn folded_form(
         },
         folded,
     ))
+}
+
+/// The file's `faceOrders` (`[f, g, s]`: face `f` lies on the side of face
+/// `g` that `g`'s normal points to for `s = 1`, the other for `s = -1`,
+/// unknown for 0), the known ones; empty without the key.
+fn face_orders(root: &Map<String, Value>, face_count: usize) -> Result<FaceOrders, PatternError> {
+    let Some(value) = root.get("faceOrders") else {
+        return Ok(FaceOrders::new());
+    };
+    let mut orders = FaceOrders::new();
+    for (i, entry) in expect_array(value, "faceOrders")?.iter().enumerate() {
+        let path = format!("faceOrders[{i}]");
+        let triple = expect_array(entry, &path)?;
+        let [f, g, s] = triple.as_slice() else {
+            return Err(PatternError::new(
+                path,
+                format!("expected [f, g, s], found {} values", triple.len()),
+            ));
+        };
+        let face = |value: &Value, k: usize| face_index(value, &format!("{path}[{k}]"), face_count);
+        let (f, g) = (face(f, 0)?, face(g, 1)?);
+        let side = match s.as_f64() {
+            Some(side) if side == 1.0 || side == -1.0 => side,
+            Some(0.0) => continue,
+            _ => {
+                return Err(PatternError::new(
+                    format!("{path}[2]"),
+                    format!("expected 1, -1 or 0, found {s}"),
+                ))
+            }
+        };
+        if f == g {
+            return Err(PatternError::new(
+                path,
+                format!("face {f} ordered against itself"),
+            ));
+        }
+        orders.insert([f, g], side);
+    }
+    Ok(orders)
+}
+
+fn face_index(value: &Value, path: &str, face_count: usize) -> Result<usize, PatternError> {
+    value
+        .as_u64()
+        .and_then(|index| usize::try_from(index).ok())
+        .filter(|&i| i < face_count)
+        .ok_or_else(|| {
+            PatternError::new(
+                path,
+                format!("expected a face index below {face_count} (the faces in faces_vertices), found {value}"),
+            )
+        })
 }
 
 /// Whether most mountains and valleys fold the other way in the folded
@@ -127,11 +191,13 @@ fn seen_from_the_back(edges: &[PatternEdge], dihedrals: &HashMap<[usize; 2], Dih
 
 /// A crease's target from its fold angle in a folded state: mountains and
 /// valleys keep their direction and take the angle; unassigned edges that
-/// are folded become mountains or valleys. Flat folds keep the full fold
+/// are folded become mountains or valleys, those it leaves flat facet lines
+/// (`F`, kept flat as the state has them). Flat folds keep the full fold
 /// (the folded state cannot tell their direction), flat lines and joins
 /// stay flat.
 fn take_fold_angle(edge: &mut PatternEdge, dihedral: Dihedral) {
     match (edge.assignment, dihedral) {
+        (Assignment::Unassigned, Dihedral::Flat) => edge.assignment = Assignment::Flat,
         (Assignment::Mountain | Assignment::Valley, Dihedral::Folded(angle)) => {
             edge.fold_angle = edge.assignment.fold_sign().map(|s| s * angle.abs());
         }
@@ -817,6 +883,73 @@ mod tests {
         let flat = parse_fold(&folded_square(180.0, labels)).unwrap();
         assert_eq!(crease(&flat).fold_angle, None);
         assert_eq!(crease(&flat).assignment, Assignment::Mountain);
+    }
+
+    #[test]
+    fn face_orders_give_the_direction_of_a_flat_fold() {
+        let with_orders = |orders: &str| {
+            let p = parse_fold(&folded_square(180.0, &format!(r#","faceOrders":{orders}"#)));
+            crease(&p.unwrap()).clone()
+        };
+        // Folded flat onto the front of face 0: face 1 lies above face 0
+        // (along face 0's normal, +z), and face 0 along face 1's normal
+        // (-z once folded): a valley, whichever pair the file lists.
+        for orders in ["[[1,0,1]]", "[[0,1,1]]", "[[0,1,0],[1,0,1]]"] {
+            let edge = with_orders(orders);
+            assert_eq!(edge.assignment, Assignment::Valley, "{orders}");
+            assert_eq!(edge.fold_angle, Some(180.0), "{orders}");
+        }
+        // Folded onto the back: a mountain.
+        for orders in ["[[1,0,-1]]", "[[0,1,-1]]"] {
+            let edge = with_orders(orders);
+            assert_eq!(edge.assignment, Assignment::Mountain, "{orders}");
+            assert_eq!(edge.fold_angle, Some(-180.0), "{orders}");
+        }
+        // Unknown order (0), or none: folded flat, direction unknown.
+        for orders in ["[[1,0,0]]", "[]"] {
+            let edge = with_orders(orders);
+            assert_eq!(edge.assignment, Assignment::Unassigned, "{orders}");
+            assert_eq!(edge.fold_angle, None, "{orders}");
+        }
+        // A label wins over the order.
+        let labelled = r#","edges_vertices":[[0,1],[1,2],[2,3],[3,0],[1,3]],
+            "edges_assignment":["B","B","B","B","M"],"faceOrders":[[1,0,1]]"#;
+        let p = parse_fold(&folded_square(180.0, labelled)).unwrap();
+        assert_eq!(crease(&p).assignment, Assignment::Mountain);
+    }
+
+    #[test]
+    fn bad_face_orders_are_errors_that_name_the_entry() {
+        let error_with =
+            |orders: &str| error(&folded_square(180.0, &format!(r#","faceOrders":{orders}"#)));
+        assert_eq!(
+            error_with("{}"),
+            "faceOrders: expected an array, found an object"
+        );
+        assert_eq!(
+            error_with("[[1,0,1],[0,1]]"),
+            "faceOrders[1]: expected [f, g, s], found 2 values"
+        );
+        assert_eq!(
+            error_with("[[0,5,1]]"),
+            "faceOrders[0][1]: expected a face index below 2 (the faces in faces_vertices), found 5"
+        );
+        assert_eq!(
+            error_with("[[-1,0,1]]"),
+            "faceOrders[0][0]: expected a face index below 2 (the faces in faces_vertices), found -1"
+        );
+        assert_eq!(
+            error_with("[[0,1,2]]"),
+            "faceOrders[0][2]: expected 1, -1 or 0, found 2"
+        );
+        assert_eq!(
+            error_with(r#"[[0,1,"up"]]"#),
+            r#"faceOrders[0][2]: expected 1, -1 or 0, found "up""#
+        );
+        assert_eq!(
+            error_with("[[1,1,1]]"),
+            "faceOrders[0]: face 1 ordered against itself"
+        );
     }
 
     #[test]

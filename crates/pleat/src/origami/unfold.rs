@@ -11,7 +11,9 @@
 //! angle, so that the sheet can fold back into the file's shape. The first
 //! face's normal (by its vertex order) is the sheet's front; where the
 //! file's mountains and valleys say the other side is, the caller turns the
-//! sheet over.
+//! sheet over. A crease folded flat cannot tell a mountain from a valley by
+//! its faces' normals; the file's `faceOrders` can: two faces folded flat
+//! across a valley each lie on the side the other's front faces.
 
 use std::collections::{HashMap, VecDeque};
 
@@ -47,6 +49,11 @@ pub(super) enum Dihedral {
     /// Folded flat, one face on the other: mountain or valley unknown.
     FlatFolded,
 }
+
+/// FOLD's `faceOrders` of a folded state: for a pair of faces `[f, g]`,
+/// the side of face `g` that face `f` lies on, along `g`'s normal by its
+/// vertex order (1 the side it points to, -1 the other).
+pub(super) type FaceOrders = HashMap<[usize; 2], f64>;
 
 /// A folded state laid flat.
 #[derive(Debug)]
@@ -117,12 +124,15 @@ impl Placement {
 }
 
 /// Unfolds the faces `faces` (indices into `points`, each a cycle) across
-/// every edge between two faces that `crossable` allows (not a cut).
-/// Errors name the face (`faces_vertices[f]`) or vertex and the reason.
+/// every edge between two faces that `crossable` allows (not a cut); a
+/// crease folded flat takes its direction from `orders` where they stack
+/// its two faces. Errors name the face (`faces_vertices[f]`) or vertex and
+/// the reason.
 pub(super) fn unfold(
     points: &[DVec3],
     faces: &[Vec<usize>],
     crossable: impl Fn([usize; 2]) -> bool,
+    orders: &FaceOrders,
 ) -> Result<Unfolded, PatternError> {
     let (min, max) = points
         .iter()
@@ -168,7 +178,13 @@ pub(super) fn unfold(
         .map(|(&key, &[f, g])| {
             let front = |h: usize| placements[h].front(frames[h].normal);
             let along = points[key[0]];
-            let d = dihedral(front(f), front(g), frames[g].centroid - along);
+            let d = match dihedral(front(f), front(g), frames[g].centroid - along) {
+                Dihedral::FlatFolded => {
+                    let front_side = |h: usize| placements[h].map.determinant().signum();
+                    flat_fold_by_order([f, g], orders, front_side)
+                }
+                d => d,
+            };
             (key, d)
         })
         .collect();
@@ -429,6 +445,27 @@ fn beyond(
         turned
     } else {
         candidate(rotation * mirror)
+    }
+}
+
+/// The fold of two neighbouring faces `[f, g]` folded flat, from `orders`:
+/// a valley where `f` lies on the side of `g` that `g`'s front faces
+/// (`front_side(h)`: 1 where face `h`'s normal is the sheet's front, -1
+/// where its back), or `g` on `f`'s; folded flat, direction unknown, where
+/// `orders` do not stack them.
+fn flat_fold_by_order(
+    [f, g]: [usize; 2],
+    orders: &FaceOrders,
+    front_side: impl Fn(usize) -> f64,
+) -> Dihedral {
+    let on_front = orders
+        .get(&[f, g])
+        .map(|&side| side * front_side(g))
+        .or_else(|| orders.get(&[g, f]).map(|&side| side * front_side(f)));
+    match on_front {
+        Some(side) if side > 0.0 => Dihedral::Folded(180.0),
+        Some(side) if side < 0.0 => Dihedral::Folded(-180.0),
+        _ => Dihedral::FlatFolded,
     }
 }
 
