@@ -15,8 +15,8 @@ use pleat::folding::{
     FoldRamp, LayerOrderFigures,
 };
 use pleat::origami::{
-    builtin, check_flat_foldability, load_pattern, parse_pattern_steps, CreasePattern,
-    FlatFoldability, FlatFolded, PatternError, Sheet, SheetOptions, BUILTIN_NAMES,
+    builtin, check_flat_foldability, load_pattern_with_warnings, parse_pattern_steps,
+    CreasePattern, FlatFoldability, FlatFolded, PatternError, Sheet, SheetOptions, BUILTIN_NAMES,
 };
 use pleat::Simulation;
 use std::path::{Path, PathBuf};
@@ -426,7 +426,10 @@ fn load(arg: &str) -> Result<(CreasePattern, String, EdgeAngles), String> {
         let name = path
             .file_stem()
             .map_or_else(|| arg.to_string(), |s| s.to_string_lossy().into_owned());
-        let pattern = load_pattern(path).map_err(|e| e.to_string())?;
+        let (pattern, warnings) = load_pattern_with_warnings(path).map_err(|e| e.to_string())?;
+        for w in warnings {
+            eprintln!("warning: {arg}: {w}");
+        }
         let bytes = std::fs::read(path).map_err(|e| format!("{arg}: {e}"))?;
         let steps = parse_pattern_steps(arg, &bytes, &pattern).map_err(|e| e.to_string())?;
         return Ok((pattern, name, steps));

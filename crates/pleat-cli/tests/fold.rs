@@ -115,6 +115,54 @@ fn layer_orders_are_found_written_and_checked_against_the_fold() {
     assert!(!out.join("square-twist.fold").exists());
 }
 
+/// A flat-folded state written by `pleat check --folded-out` (no creases,
+/// only the layer order) reads back into a pattern that checks and folds
+/// flat again; without its `faceOrders` nothing says which way its creases
+/// fold, and both commands warn that they are not driven.
+#[test]
+fn a_written_flat_folded_state_reads_back_and_one_without_orders_warns() {
+    let dir = scratch("read-back");
+    let pattern = patterns().join("waterbomb-base.fold");
+    let (ok, text) = pleat(&[
+        "check",
+        pattern.to_str().unwrap(),
+        "--folded-out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(ok, "{text}");
+    let written = dir.join("waterbomb-base.fold");
+    let (ok, text) = pleat(&["check", written.to_str().unwrap()]);
+    assert!(ok, "{text}");
+    assert!(
+        text.contains("flat-foldable (1 vertices checked); layer order found"),
+        "{text}"
+    );
+    assert!(!text.contains("warning"), "{text}");
+
+    let mut fold: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&written).unwrap()).unwrap();
+    fold.as_object_mut().unwrap().remove("faceOrders");
+    let bare = dir.join("no-orders.fold");
+    std::fs::write(&bare, fold.to_string()).unwrap();
+    let warning = "6 creases are folded flat with neither a mountain or valley label nor \
+                   faceOrders to say which way";
+    let (ok, text) = pleat(&["check", bare.to_str().unwrap()]);
+    assert!(ok && text.contains(warning), "{text}");
+    let out = dir.join("out");
+    let (ok, text) = pleat(&[
+        "fold",
+        bare.to_str().unwrap(),
+        "--frames",
+        "5",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(
+        ok && text.contains(&format!("warning: {}: {warning}", bare.display())),
+        "{text}"
+    );
+}
+
 #[test]
 fn builtin_folds_and_reports_fold_angle_errors() {
     let dir = scratch("miura");

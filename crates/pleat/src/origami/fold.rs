@@ -31,6 +31,13 @@ const FLAT_TOLERANCE: f64 = 1e-6;
 
 /// Parses the text of a FOLD file.
 pub fn parse_fold(text: &str) -> Result<CreasePattern, PatternError> {
+    parse_fold_with_warnings(text).map(|(pattern, _)| pattern)
+}
+
+/// Parses the text of a FOLD file, with warnings about what it reads but
+/// cannot fold as the file means: creases a folded state folds flat with
+/// neither a mountain or valley label nor `faceOrders` to say which way.
+pub fn parse_fold_with_warnings(text: &str) -> Result<(CreasePattern, Vec<String>), PatternError> {
     let root: Value = serde_json::from_str(text).map_err(json_syntax_error)?;
     let Value::Object(root) = root else {
         return Err(PatternError::new(
@@ -57,20 +64,57 @@ pub fn parse_fold(text: &str) -> Result<CreasePattern, PatternError> {
         Some(faces) => face_orders(&root, faces.len())?,
         None => FaceOrders::new(),
     };
+    let as_drawn = |vertices| {
+        Ok((
+            CreasePattern {
+                vertices,
+                edges: edges.clone(),
+            },
+            Vec::new(),
+        ))
+    };
     match (flat, faces) {
         // A crease pattern labelled as a folded form (some editors write
         // one so) reads as it is; a flat-folded state is unfolded.
         (Ok(vertices), Some(faces)) if labelled_folded => {
             match folded_form(&points, &faces, edges.clone(), &orders) {
-                Ok((pattern, true)) => Ok(pattern),
-                _ => Ok(CreasePattern { vertices, edges }),
+                Ok(form) if form.folded => Ok(form.with_warnings()),
+                _ => as_drawn(vertices),
             }
         }
-        (Ok(vertices), _) => Ok(CreasePattern { vertices, edges }),
+        (Ok(vertices), _) => as_drawn(vertices),
         (Err(_), Some(faces)) => {
-            folded_form(&points, &faces, edges, &orders).map(|(pattern, _)| pattern)
+            folded_form(&points, &faces, edges.clone(), &orders).map(FoldedForm::with_warnings)
         }
         (Err(off_plane), None) => Err(off_plane),
+    }
+}
+
+/// A folded state unfolded ([`folded_form`]).
+struct FoldedForm {
+    pattern: CreasePattern,
+    /// Whether any edge is folded.
+    folded: bool,
+    /// The edges folded flat whose direction neither a label nor the
+    /// layer order gives: left unassigned, not driven.
+    undirected: Vec<[usize; 2]>,
+}
+
+impl FoldedForm {
+    fn with_warnings(self) -> (CreasePattern, Vec<String>) {
+        let warnings = match self.undirected.as_slice() {
+            [] => Vec::new(),
+            [[a, b], rest @ ..] => vec![format!(
+                "{} folded flat with neither a mountain or valley label nor faceOrders to say \
+                 which way (the {}between vertices {a} and {b}): unassigned, not driven",
+                match rest.len() {
+                    0 => "1 crease is".to_string(),
+                    n => format!("{} creases are", n + 1),
+                },
+                if rest.is_empty() { "one " } else { "first " },
+            )],
+        };
+        (self.pattern, warnings)
     }
 }
 
@@ -83,14 +127,13 @@ fn is_folded_form(root: &Map<String, Value>) -> bool {
 
 /// The crease pattern a folded state unfolds from, each crease's target
 /// its fold angle in the folded state (where the file gives none; a flat
-/// fold's direction from the file's `faceOrders`), and whether any edge is
-/// folded.
+/// fold's direction from the file's `faceOrders`).
 fn folded_form(
     points: &[DVec3],
     faces: &[Vec<usize>],
     mut edges: Vec<PatternEdge>,
     orders: &FaceOrders,
-) -> Result<(CreasePattern, bool), PatternError> {
+) -> Result<FoldedForm, PatternError> {
     let walls: HashSet<[usize; 2]> = edges
         .iter()
         .filter(|e| matches!(e.assignment, Assignment::Boundary | Assignment::Cut))
@@ -107,14 +150,20 @@ fn folded_form(
             }
         }
     }
-    let folded = !unfolded.is_flat();
-    Ok((
-        CreasePattern {
+    let undirected = edges
+        .iter()
+        .filter(|e| e.assignment == Assignment::Unassigned)
+        .map(|e| edge_key(e.v))
+        .filter(|key| unfolded.dihedrals.get(key) == Some(&Dihedral::FlatFolded))
+        .collect();
+    Ok(FoldedForm {
+        folded: !unfolded.is_flat(),
+        pattern: CreasePattern {
             vertices: unfolded.vertices,
             edges,
         },
-        folded,
-    ))
+        undirected,
+    })
 }
 
 /// The file's `faceOrders` (`[f, g, s]`: face `f` lies on the side of face
@@ -911,6 +960,21 @@ mod tests {
             assert_eq!(edge.assignment, Assignment::Unassigned, "{orders}");
             assert_eq!(edge.fold_angle, None, "{orders}");
         }
+        // Undirected, it is said: a flat fold that silently stayed flat
+        // would be a wrong simulation.
+        let (_, warnings) = parse_fold_with_warnings(&folded_square(180.0, "")).unwrap();
+        assert_eq!(
+            warnings,
+            [
+                "1 crease is folded flat with neither a mountain or valley label nor faceOrders \
+              to say which way (the one between vertices 1 and 3): unassigned, not driven"
+            ]
+        );
+        let directed = folded_square(180.0, r#","faceOrders":[[1,0,1]]"#);
+        assert_eq!(
+            parse_fold_with_warnings(&directed).unwrap().1,
+            Vec::<String>::new()
+        );
         // A label wins over the order.
         let labelled = r#","edges_vertices":[[0,1],[1,2],[2,3],[3,0],[1,3]],
             "edges_assignment":["B","B","B","B","M"],"faceOrders":[[1,0,1]]"#;

@@ -72,7 +72,7 @@ fn parse_by_extension(
     })?;
     match extension {
         "cp" => cp::parse_cp(text).map(|p| (p, Vec::new())),
-        "fold" => fold::parse_fold(text).map(|p| (p, Vec::new())),
+        "fold" => fold::parse_fold_with_warnings(text),
         "svg" => svg::parse_svg(text).map(|import| (import.pattern, import.warnings)),
         other => Err(PatternError::new(
             "",

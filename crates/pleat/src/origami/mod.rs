@@ -24,7 +24,7 @@ pub use builtin::{builtin, Kresling, MiuraOri, BUILTIN_NAMES};
 pub use cp::parse_cp;
 pub use flat_fold::{FacetSides, FlatFolded, LayerCheck};
 pub use flat_foldability::{check_flat_foldability, FlatFoldability, Theorem, Violation};
-pub use fold::{parse_fold, parse_fold_frames, to_fold_json};
+pub use fold::{parse_fold, parse_fold_frames, parse_fold_with_warnings, to_fold_json};
 pub use load::{load_pattern, load_pattern_with_warnings, parse_pattern, parse_pattern_steps};
 pub use pattern::{Assignment, CreasePattern, PatternEdge, PatternError};
 pub use sheet::{Hinge, Sheet, SheetOptions, MERGE_TOLERANCE};
