@@ -64,27 +64,18 @@ pub fn parse_fold_with_warnings(text: &str) -> Result<(CreasePattern, Vec<String
         Some(faces) => face_orders(&root, faces.len())?,
         None => FaceOrders::new(),
     };
-    let as_drawn = |vertices| {
-        Ok((
-            CreasePattern {
-                vertices,
-                edges: edges.clone(),
-            },
-            Vec::new(),
-        ))
-    };
     match (flat, faces) {
         // A crease pattern labelled as a folded form (some editors write
         // one so) reads as it is; a flat-folded state is unfolded.
         (Ok(vertices), Some(faces)) if labelled_folded => {
             match folded_form(&points, &faces, edges.clone(), &orders) {
                 Ok(form) if form.folded => Ok(form.with_warnings()),
-                _ => as_drawn(vertices),
+                _ => Ok((CreasePattern { vertices, edges }, Vec::new())),
             }
         }
-        (Ok(vertices), _) => as_drawn(vertices),
+        (Ok(vertices), _) => Ok((CreasePattern { vertices, edges }, Vec::new())),
         (Err(_), Some(faces)) => {
-            folded_form(&points, &faces, edges.clone(), &orders).map(FoldedForm::with_warnings)
+            folded_form(&points, &faces, edges, &orders).map(FoldedForm::with_warnings)
         }
         (Err(off_plane), None) => Err(off_plane),
     }
@@ -101,20 +92,21 @@ struct FoldedForm {
 }
 
 impl FoldedForm {
+    /// The pattern, and a warning naming the undirected creases if any.
     fn with_warnings(self) -> (CreasePattern, Vec<String>) {
-        let warnings = match self.undirected.as_slice() {
-            [] => Vec::new(),
-            [[a, b], rest @ ..] => vec![format!(
-                "{} folded flat with neither a mountain or valley label nor faceOrders to say \
-                 which way (the {}between vertices {a} and {b}): unassigned, not driven",
-                match rest.len() {
-                    0 => "1 crease is".to_string(),
-                    n => format!("{} creases are", n + 1),
-                },
-                if rest.is_empty() { "one " } else { "first " },
-            )],
-        };
-        (self.pattern, warnings)
+        let n = self.undirected.len();
+        let warnings = self.undirected.first().map(|[a, b]| {
+            let (creases, which) = match n {
+                1 => ("1 crease is".to_string(), "one"),
+                n => (format!("{n} creases are"), "first"),
+            };
+            format!(
+                "{creases} folded flat with neither a mountain or valley label nor faceOrders \
+                 to say which way (the {which} between vertices {a} and {b}): unassigned, not \
+                 driven"
+            )
+        });
+        (self.pattern, warnings.into_iter().collect())
     }
 }
 
