@@ -12,8 +12,14 @@
 // The pairs within the thickness plus a margin are kept over substeps
 // while no particle has moved half the margin (as contact_grid.wgsl keeps
 // its candidates).
+//
+// The positions live in workgroup memory for the dispatch: read from
+// `pos_buffer` at its start, written back at its end. Every constraint
+// reads and writes them, and a GPU serves workgroup memory in a few
+// cycles where a storage buffer that other invocations write between
+// colours is served from its L2 cache.
 
-@group(0) @binding(0) var<storage, read_write> pos: array<vec4<f32>>;
+@group(0) @binding(0) var<storage, read_write> pos_buffer: array<vec4<f32>>;
 @group(0) @binding(1) var<storage, read_write> prev: array<vec4<f32>>;
 @group(0) @binding(2) var<storage, read_write> vel: array<vec4<f32>>;
 // Every substep's parameters, 256 bytes apart as the dispatched kernels
@@ -51,6 +57,48 @@ var<private> builds: u32;
 // The substep this invocation runs.
 var<private> params: Params;
 
+// The sheet's positions and inverse masses for the dispatch (its
+// PARTICLES particles, set by the host).
+override PARTICLES: u32;
+var<workgroup> pos: array<vec4<f32>, PARTICLES>;
+
+fn particle(i: u32) -> vec4<f32> {
+    return pos[i];
+}
+
+fn set_particle(i: u32, x: vec4<f32>) {
+    pos[i] = x;
+}
+
+// Orders the positions' writes before other invocations read them
+// (between colours).
+fn colour_barrier() {
+    workgroupBarrier();
+}
+
+// Orders every write, the positions' and the storage buffers' (the
+// multipliers, the hinges' tracked angles, the previous positions).
+fn full_barrier() {
+    workgroupBarrier();
+    storageBarrier();
+}
+
+// The dispatch's first act: the positions into workgroup memory.
+fn load_positions(t: u32) {
+    for (var i = t; i < PARTICLES; i += THREADS) {
+        pos[i] = pos_buffer[i];
+    }
+    workgroupBarrier();
+}
+
+// The dispatch's last act: the positions back into their buffer.
+fn store_positions(t: u32) {
+    workgroupBarrier();
+    for (var i = t; i < PARTICLES; i += THREADS) {
+        pos_buffer[i] = pos[i];
+    }
+}
+
 // Most substeps a frame of this kernel has: a 64 KiB uniform.
 const MAX_SUBSTEPS: u32 = 256u;
 
@@ -66,7 +114,7 @@ override THREADS: u32 = 64u;
 override SUMMING: u32 = min(THREADS, 64u);
 
 // Per summing invocation, its sums.
-var<workgroup> partial_sums: array<Sums, 64>;
+var<workgroup> partial_sums: array<Sums, SUMMING>;
 // The turn of the cloth being kept: its rotation vector, then its centre.
 var<workgroup> kept_turn: array<vec4<f32>, 2>;
 
@@ -115,7 +163,7 @@ fn keep_momentum(t: u32, part: Range) {
     for (var k = t; k < part.count; k += THREADS) {
         apply_turn(part.first + k, theta, centre);
     }
-    storageBarrier();
+    full_barrier();
 }
 
 // The strain limits after the iterations, as the dispatched kernels run
@@ -140,21 +188,21 @@ fn substep(t: u32) {
     for (var j = t; j < program.hinge_count; j += THREADS) {
         hinge_lambda[j] = 0.0;
     }
-    storageBarrier();
+    full_barrier();
     for (var iteration = 0u; iteration < program.iterations; iteration++) {
         for (var c = 0u; c < program.hinge_colours; c++) {
             let r = hinge_colour(c);
             for (var k = t; k < r.count; k += THREADS) {
                 solve_hinge(r.first + k);
             }
-            storageBarrier();
+            colour_barrier();
         }
         for (var c = 0u; c < program.distance_colours; c++) {
             let r = distance_colour(c);
             for (var k = t; k < r.count; k += THREADS) {
                 solve_distance(r.first + k);
             }
-            storageBarrier();
+            colour_barrier();
         }
     }
     sweep_strain_limits(t);
@@ -171,7 +219,7 @@ fn finish_substep(t: u32) {
     for (var i = t; i < params.particle_count; i += THREADS) {
         update_velocity(i);
     }
-    storageBarrier();
+    full_barrier();
 }
 
 // The box of particle i over the substep (its start and now).
@@ -314,18 +362,20 @@ fn self_contacts(t: u32, first_substep: bool) {
         for (var i = t; i < params.particle_count; i += THREADS) {
             apply_correction(i);
         }
-        storageBarrier();
+        colour_barrier();
     }
     solved += count;
 }
 
 @compute @workgroup_size(THREADS)
 fn frame(@builtin(local_invocation_index) t: u32) {
+    load_positions(t);
     for (var s = chunk.x; s < min(chunk.x + chunk.y, program.substeps); s++) {
         params = substeps[s].p;
         substep(t);
         finish_substep(t);
     }
+    store_positions(t);
 }
 
 // A frame with self-contacts; the pairs solved, the contacts that acted
@@ -334,13 +384,15 @@ fn frame(@builtin(local_invocation_index) t: u32) {
 // then the kept pairs and their build's positions.
 @compute @workgroup_size(THREADS)
 fn frame_with_contacts(@builtin(local_invocation_index) t: u32) {
+    load_positions(t);
     for (var s = chunk.x; s < min(chunk.x + chunk.y, program.substeps); s++) {
         params = substeps[s].p;
         substep(t);
-        storageBarrier();
+        full_barrier();
         self_contacts(t, s == chunk.x);
         finish_substep(t);
     }
+    store_positions(t);
     workgroupBarrier();
     if t == 0u {
         topology[program.contact_counts] += solved;

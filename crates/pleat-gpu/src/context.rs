@@ -99,13 +99,16 @@ impl GpuContext {
     }
 
     /// WebGPU's default limits, with buffers as large as the adapter allows
-    /// (large cloths on native GPUs) and as many storage buffers a kernel
-    /// as it binds (the persistent kernel with self-contacts binds nine).
+    /// (large cloths on native GPUs), as many storage buffers a kernel as
+    /// it binds (the persistent kernel with self-contacts binds nine) and
+    /// as much workgroup memory (the persistent kernel keeps a sheet's
+    /// positions there where they fit).
     pub fn limits(adapter: &wgpu::Limits) -> wgpu::Limits {
         wgpu::Limits {
             max_storage_buffer_binding_size: adapter.max_storage_buffer_binding_size,
             max_buffer_size: adapter.max_buffer_size,
             max_storage_buffers_per_shader_stage: adapter.max_storage_buffers_per_shader_stage,
+            max_compute_workgroup_storage_size: adapter.max_compute_workgroup_storage_size,
             ..wgpu::Limits::default()
         }
     }

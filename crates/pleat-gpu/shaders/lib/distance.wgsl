@@ -98,7 +98,7 @@ var<workgroup> sweep_again: u32;
 
 // Sweeps `first` to `last` (exclusive) of the strain limits at `slack`, in
 // one workgroup of `threads` invocations (t is this one's index): a sweep
-// over every colour, a storage barrier between colours; from sweep
+// over every colour, a `colour_barrier` between colours; from sweep
 // `forced` on, only while the sweep before found an edge beyond the slack
 // (`sweep_again`, which the caller sets before the first).
 fn sweep_while_beyond(t: u32, threads: u32, slack: f32, first: u32, forced: u32, last: u32) {
@@ -118,7 +118,7 @@ fn sweep_while_beyond(t: u32, threads: u32, slack: f32, first: u32, forced: u32,
                     atomicStore(&beyond_in_sweep, 1u);
                 }
             }
-            storageBarrier();
+            colour_barrier();
         }
         workgroupBarrier();
         if t == 0u {

@@ -10,7 +10,10 @@
 //! limit ([`CPU_LOOP_BUDGET`]). A crease
 //! pattern folds with 160 substeps of a few dozen constraints a colour:
 //! per-dispatch costs, not arithmetic, decide its frame time, and one
-//! workgroup holds every colour of it.
+//! workgroup holds every colour of it. The sheet's positions live in the
+//! workgroup's memory for the dispatch, where every colour reads and
+//! writes them, so the kernel takes sheets whose positions fit there
+//! beside its other workgroup words ([`positions_fit`]).
 //!
 //! It runs the same library code as the kernels dispatched per colour, in
 //! the same order, so both paths follow the CPU to round-off; the backend
@@ -153,6 +156,9 @@ impl Persistent {
             return None;
         }
         let threads = threads(&program, device_type);
+        if !positions_fit(device, sheet.particles, threads, with_contacts.is_some()) {
+            return None;
+        }
         let chunk = match device_type {
             wgpu::DeviceType::Cpu => {
                 let per_substep = loop_iterations(&program, sheet, threads);
@@ -253,7 +259,10 @@ impl Persistent {
             ],
             immediate_size: 0,
         });
-        let threads = [("THREADS", threads as f64)];
+        let constants = [
+            ("THREADS", f64::from(threads)),
+            ("PARTICLES", sheet.particles as f64),
+        ];
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("persistent frame"),
             layout: Some(&layout),
@@ -263,7 +272,7 @@ impl Persistent {
                 None => "frame",
             }),
             compilation_options: wgpu::PipelineCompilationOptions {
-                constants: &threads,
+                constants: &constants,
                 ..Default::default()
             },
             cache: None,
@@ -334,6 +343,35 @@ impl Persistent {
         let at = u64::from(self.program.contact_counts) * 4;
         self.contacts.as_ref().map(|(buffer, _)| (buffer, at))
     }
+}
+
+/// Bytes of workgroup memory a particle's position takes.
+const POSITION_BYTES: u32 = 16;
+/// Bytes of one free cloth's partial sums (`Sums`), of which the kernel
+/// keeps one per summing invocation (`SUMMING`, at most 64).
+const SUMS_BYTES: u32 = 7 * 16;
+/// Bytes of the kernel's other workgroup words: the turn, the sweeps' and
+/// the contacts' counters.
+const WORDS_BYTES: u32 = 64;
+/// Bytes of the self-contacts' sums per particle (`accum`).
+const ACCUM_BYTES: u32 = 4 * 2048;
+
+/// Whether the positions of `particles` fit in the workgroup memory
+/// `device` allows beside the rest of the kernel's, with `threads`
+/// invocations.
+fn positions_fit(
+    device: &wgpu::Device,
+    particles: usize,
+    threads: u32,
+    with_contacts: bool,
+) -> bool {
+    let others =
+        threads.min(64) * SUMS_BYTES + WORDS_BYTES + if with_contacts { ACCUM_BYTES } else { 0 };
+    let room = device
+        .limits()
+        .max_compute_workgroup_storage_size
+        .saturating_sub(others);
+    particles > 0 && particles <= (room / POSITION_BYTES) as usize
 }
 
 /// Invocations of the workgroup (`THREADS`). On a GPU, the largest
