@@ -316,7 +316,8 @@ impl Session {
 
 /// The scene's simulation on the backend `choice` (built once), or on the
 /// CPU with the reason when the GPU cannot take it; the backend used and
-/// a notice for the panel.
+/// a notice for the panel (after the warnings of the scene's crease
+/// patterns' importers, if any).
 fn build(
     scene: &Scene,
     files: &InMemory,
@@ -324,12 +325,12 @@ fn build(
     choice: BackendChoice,
     gpu: Option<&GpuContext>,
 ) -> Result<(Simulation, BackendChoice, Option<String>), SceneErrors> {
-    let (model, world) = scene.model_with(files, file)?;
+    let (model, world, warnings) = scene.model_and_warnings_with(files, file)?;
     let gpu = match choice {
         BackendChoice::Cpu => Err(None),
         BackendChoice::Gpu => gpu_backend(gpu, &model, &world, &scene.solver).map_err(Some),
     };
-    Ok(match gpu {
+    let (sim, used, notice) = match gpu {
         Ok((backend, notice)) => (
             scene.simulation(model, world, backend),
             BackendChoice::Gpu,
@@ -343,7 +344,13 @@ fn build(
                 reason,
             )
         }
-    })
+    };
+    let notices: Vec<String> = warnings
+        .iter()
+        .map(|w| format!("warning: {w}"))
+        .chain(notice)
+        .collect();
+    Ok((sim, used, (!notices.is_empty()).then(|| notices.join("; "))))
 }
 
 /// The GPU backend for `model`, with the notes of its building, or why
@@ -403,6 +410,39 @@ mod tests {
         assert!(
             s.notice.as_deref().unwrap().contains("CPU"),
             "the move was tried"
+        );
+    }
+
+    /// A crease pattern whose importer warns (a flat fold with no
+    /// direction) says so on the panel.
+    #[test]
+    fn a_patterns_warning_is_noticed() {
+        // A unit square folded flat along its diagonal, with neither a
+        // label nor faceOrders to say which way.
+        let fold = r#"{"frame_classes":["foldedForm"],
+            "vertices_coords":[[0,0,0],[1,0,0],[0,0,0],[0,1,0]],
+            "faces_vertices":[[0,1,3],[1,2,3]]}"#;
+        let scene = Scene::parse(
+            r#"{"name":"undirected","cloths":[{"mesh":{"pattern":{"path":"flat.fold"}}}]}"#,
+            "undirected.json",
+        )
+        .unwrap();
+        let mut files = InMemory::default();
+        files.insert("flat.fold", fold.as_bytes().to_vec());
+        let s = Session::new(
+            scene,
+            "undirected.json".into(),
+            files,
+            BackendChoice::Cpu,
+            None,
+        )
+        .unwrap();
+        let notice = s.notice.unwrap_or_default();
+        assert!(
+            notice.starts_with(
+                "warning: undirected.json: cloths[0].mesh.pattern: flat.fold: 1 crease is folded flat"
+            ),
+            "{notice}"
         );
     }
 

@@ -76,10 +76,10 @@ fn summary(path: &Path, folded_out: Option<&Path>) -> Result<String, String> {
 fn scene_summary(path: &Path) -> Result<String, String> {
     let scene = Scene::load(path).map_err(|e| e.to_string())?;
     let base = path.parent().unwrap_or(Path::new("."));
-    let (model, world) = scene
-        .model(base, &path.display().to_string())
+    let (model, world, warnings) = scene
+        .model_and_warnings(base, &path.display().to_string())
         .map_err(|e| e.to_string())?;
-    Ok(format!(
+    let mut line = format!(
         "scene '{}', {} cloths, {} particles, {} triangles, {} colliders, {} frames",
         scene.name,
         model.cloths.len(),
@@ -87,7 +87,11 @@ fn scene_summary(path: &Path) -> Result<String, String> {
         model.triangles.len(),
         world.colliders.len(),
         scene.frames
-    ))
+    );
+    for w in warnings {
+        line.push_str(&format!("; warning: {w}"));
+    }
+    Ok(line)
 }
 
 fn pattern_summary(path: &Path, folded_out: Option<&Path>) -> Result<String, String> {

@@ -55,14 +55,20 @@ pub fn check_backend(backend: &str) -> Result<(), String> {
 }
 
 /// The simulation `scene` describes (paths relative to `base_dir`, `file`
-/// naming it in errors) on the backend named `backend`, each built once.
+/// naming it in errors) on the backend named `backend`, each built once;
+/// the warnings of its crease patterns' importers go to stderr.
 pub fn build_on(
     scene: &Scene,
     (base_dir, file): (&Path, &str),
     backend: &str,
 ) -> Result<Simulation, String> {
     check_backend(backend)?;
-    let (model, world) = scene.model(base_dir, file).map_err(|e| e.to_string())?;
+    let (model, world, warnings) = scene
+        .model_and_warnings(base_dir, file)
+        .map_err(|e| e.to_string())?;
+    for w in warnings {
+        eprintln!("warning: {w}");
+    }
     let backend = backend_for(&model, &world, &scene.solver, backend)?;
     Ok(scene.simulation(model, world, backend))
 }

@@ -161,6 +161,32 @@ fn a_written_flat_folded_state_reads_back_and_one_without_orders_warns() {
         ok && text.contains(&format!("warning: {}: {warning}", bare.display())),
         "{text}"
     );
+
+    // A scene made of the same file says so too, under the cloth's path.
+    let scene = dir.join("scene.json");
+    let json = serde_json::json!({
+        "name": "no-orders",
+        "frames": 2,
+        "gravity": [0.0, 0.0, 0.0],
+        "solver": { "kind": "xpbd", "substeps": 20 },
+        "cloths": [{ "name": "paper", "mesh": { "pattern": { "path": "no-orders.fold" } } }]
+    });
+    std::fs::write(&scene, json.to_string()).unwrap();
+    let said = format!(
+        "warning: {}: cloths[0].mesh.pattern: {}: {warning}",
+        scene.display(),
+        bare.display()
+    );
+    let (ok, text) = pleat(&["check", scene.to_str().unwrap()]);
+    assert!(ok && text.contains(&said), "{said}\n{text}");
+    let run_out = dir.join("run");
+    let (ok, text) = pleat(&[
+        "run",
+        scene.to_str().unwrap(),
+        "--out",
+        run_out.to_str().unwrap(),
+    ]);
+    assert!(ok && text.contains(&said), "{said}\n{text}");
 }
 
 #[test]

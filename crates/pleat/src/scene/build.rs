@@ -4,7 +4,7 @@
 use super::{
     BodySpec, ClothSpec, ColliderSpec, Corner, CreaseSelection, FileError, FoldSpec, FoldStepSpec,
     MeshSpec, MotionSpec, PatternMeshSpec, PinSpec, Scene, SceneError, SceneErrors, SceneFiles,
-    ShapeSpec, Side,
+    SceneWarning, ShapeSpec, Side,
 };
 use crate::backend::{Backend, CpuBackend};
 use crate::collide::rigid_body::{mesh_samples, sample_points};
@@ -59,7 +59,9 @@ impl Scene {
         sim
     }
 
-    /// The model and world of this scene, without building a solver.
+    /// The model and world of this scene, without building a solver (the
+    /// warnings of its files' importers dropped: [`Scene::model_and_warnings`]
+    /// gives them).
     pub fn model(&self, base_dir: &Path, file: &str) -> Result<(Model, World), SceneErrors> {
         self.model_with(&super::Folder(base_dir), file)
     }
@@ -70,17 +72,51 @@ impl Scene {
         files: &dyn SceneFiles,
         file: &str,
     ) -> Result<(Model, World), SceneErrors> {
+        let (model, world, _) = self.model_and_warnings_with(files, file)?;
+        Ok((model, world))
+    }
+
+    /// As [`Scene::model`], with the warnings of the importers of the
+    /// scene's crease patterns (a flat fold with no direction, say), each
+    /// under the JSON path of the cloth's pattern.
+    pub fn model_and_warnings(
+        &self,
+        base_dir: &Path,
+        file: &str,
+    ) -> Result<(Model, World, Vec<SceneWarning>), SceneErrors> {
+        self.model_and_warnings_with(&super::Folder(base_dir), file)
+    }
+
+    /// As [`Scene::model_and_warnings`], with the scene's files read from
+    /// `files`.
+    pub fn model_and_warnings_with(
+        &self,
+        files: &dyn SceneFiles,
+        file: &str,
+    ) -> Result<(Model, World, Vec<SceneWarning>), SceneErrors> {
         let mut model = Model::default();
         let mut errors = Vec::new();
+        let mut warnings = Vec::new();
         for (i, cloth) in self.cloths.iter().enumerate() {
             let name = if cloth.name.is_empty() {
                 format!("cloth{i}")
             } else {
                 cloth.name.clone()
             };
-            if let Err((sub, reason)) =
-                add_cloth(&mut model, &name, cloth, self.fold.as_ref(), files)
-            {
+            let mut said = Vec::new();
+            let built = add_cloth(
+                &mut model,
+                &name,
+                (cloth, self.fold.as_ref()),
+                files,
+                &mut said,
+            );
+            warnings.extend(said.into_iter().map(|(sub, reason)| SceneWarning {
+                file: file.into(),
+                path: format!("cloths[{i}].{sub}"),
+                reason,
+            }));
+            if let Err((sub, reason)) = built {
                 errors.push(SceneError {
                     file: file.into(),
                     // Errors of the scene's fold steps name their own path.
@@ -113,7 +149,7 @@ impl Scene {
             colliders,
             time: 0.0,
         };
-        Ok((model, world))
+        Ok((model, world, warnings))
     }
 }
 
@@ -193,19 +229,27 @@ fn apply_stiffness_weights(model: &mut Model, cloth: &ClothSpec) -> Result<(), B
 /// An error inside a cloth: the path below `cloths[i]` and the reason.
 type ClothError = (String, BuildError);
 
-/// Builds one cloth of the scene (a mesh with pins, or a sheet of paper) into `model`.
+/// Builds one cloth of the scene (a mesh with pins, or a sheet of paper,
+/// with the scene's fold) into `model`; its pattern's importer warnings go
+/// to `warnings` (the path below `cloths[i]`, and what).
 fn add_cloth(
     model: &mut Model,
     name: &str,
-    cloth: &ClothSpec,
-    fold: Option<&FoldSpec>,
+    (cloth, fold): (&ClothSpec, Option<&FoldSpec>),
     files: &dyn SceneFiles,
+    warnings: &mut Vec<(String, String)>,
 ) -> Result<(), ClothError> {
     let (mesh, grid) = match &cloth.mesh {
         MeshSpec::Pattern(spec) => {
             let in_pattern = |e: PatternError| ("mesh.pattern".to_string(), e.into());
-            let (sheet, pattern, file_steps, options) =
-                pattern_sheet(spec, files).map_err(in_pattern)?;
+            let PatternSheet {
+                sheet,
+                pattern,
+                steps: file_steps,
+                options,
+                warnings: said,
+            } = pattern_sheet(spec, files).map_err(in_pattern)?;
+            warnings.extend(said.into_iter().map(|w| ("mesh.pattern".to_string(), w)));
             let scene_steps = fold.map_or(&[][..], |f| f.steps.as_slice());
             let steps = match (scene_steps.is_empty(), file_steps.is_empty()) {
                 (true, _) => file_steps,
@@ -310,26 +354,36 @@ fn scene_step_angles(
     Ok(out)
 }
 
-/// A pattern cloth's sheet, its pattern, its file's steps (each edge's
-/// angle at each step's end) and the options it was triangulated with.
-type PatternSheet = (Sheet, CreasePattern, Vec<Vec<Option<f64>>>, SheetOptions);
+/// A pattern cloth's sheet, placed at its centre.
+struct PatternSheet {
+    sheet: Sheet,
+    /// The pattern it is made of.
+    pattern: CreasePattern,
+    /// The steps of the pattern's file: each edge's angle at each step's
+    /// end (none but for a multi-frame FOLD file).
+    steps: Vec<Vec<Option<f64>>>,
+    /// The options it was triangulated with.
+    options: SheetOptions,
+    /// The warnings of the pattern file's importer, each after the file's
+    /// name.
+    warnings: Vec<String>,
+}
 
-/// The sheet of a pattern cloth, placed at its centre, the pattern it is
-/// made of, the steps of the pattern's file (each edge's angle at each
-/// step's end; none but for a multi-frame FOLD file) and the options it
-/// was triangulated with.
+/// The sheet of a pattern cloth, read from its file or built in.
 fn pattern_sheet(
     spec: &PatternMeshSpec,
     files: &dyn SceneFiles,
 ) -> Result<PatternSheet, PatternError> {
     let mut steps = Vec::new();
+    let mut warnings = Vec::new();
     let pattern = match (&spec.path, &spec.builtin) {
         (Some(path), _) => {
             let name = files.display(path);
             let bytes = files
                 .read(path)
                 .map_err(|e| PatternError::new("", e.to_string()).with_file(name.clone()))?;
-            let pattern = parse_pattern(&name, &bytes)?.0;
+            let (pattern, said) = parse_pattern(&name, &bytes)?;
+            warnings = said.into_iter().map(|w| format!("{name}: {w}")).collect();
             steps = parse_pattern_steps(&name, &bytes, &pattern)?;
             pattern
         }
@@ -346,7 +400,13 @@ fn pattern_sheet(
     for p in &mut sheet.positions {
         *p += spec.center;
     }
-    Ok((sheet, pattern, steps, options))
+    Ok(PatternSheet {
+        sheet,
+        pattern,
+        steps,
+        options,
+        warnings,
+    })
 }
 
 /// Resolves pin groups to cloth-local vertices (each vertex pinned once, first group wins).

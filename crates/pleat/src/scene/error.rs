@@ -23,6 +23,11 @@ impl fmt::Display for SceneError {
     }
 }
 
+/// Something a scene is built from that may not be what its author meant
+/// (an importer's warning on a crease pattern), where and why, as a
+/// [`SceneError`] says it.
+pub type SceneWarning = SceneError;
+
 /// Everything wrong with a scene, one error a line.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub struct SceneErrors(pub Vec<SceneError>);

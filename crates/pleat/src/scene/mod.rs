@@ -12,7 +12,7 @@ pub mod presets;
 mod spec;
 mod validate;
 
-pub use error::{SceneError, SceneErrors};
+pub use error::{SceneError, SceneErrors, SceneWarning};
 pub use files::{FileError, Folder, InMemory, SceneFiles};
 pub use spec::*;
 
