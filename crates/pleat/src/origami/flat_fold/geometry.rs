@@ -15,6 +15,7 @@ use std::collections::{HashMap, HashSet, VecDeque};
 
 use glam::{DMat2, DVec2};
 
+use super::super::flat_foldability::{kawasaki_defect, KAWASAKI_TOLERANCE_DEG};
 use super::super::{Assignment, Hinge, PatternError, Sheet};
 
 /// Most closure error accepted, as a fraction of the sheet's diameter: past
@@ -94,6 +95,45 @@ pub(super) struct FoldedGeometry {
     pub(super) tolerance: f64,
 }
 
+/// The first interior vertex of `sheet` (at `flat`) whose flat-folding
+/// creases break Kawasaki's theorem by more than drawing round-off
+/// ([`KAWASAKI_TOLERANCE_DEG`]), with its defect in degrees (NaN for an odd
+/// number of creases). Such a vertex cannot fold flat, though the creases
+/// around it may close within the closure error the sheet as a whole is
+/// allowed.
+fn kawasaki_failure(sheet: &Sheet, flat: &[DVec2]) -> Option<(usize, f64)> {
+    let mut fan = vec![0i32; flat.len()];
+    for tri in &sheet.triangles {
+        for &v in tri {
+            fan[v as usize] += 1;
+        }
+    }
+    let mut creases: Vec<Vec<f64>> = vec![Vec::new(); flat.len()];
+    for h in &sheet.hinges {
+        let [a, b] = [h.v[0] as usize, h.v[1] as usize];
+        // An interior vertex has as many edges, all hinges, as triangles.
+        fan[a] -= 1;
+        fan[b] -= 1;
+        let folds = matches!(h.assignment, Assignment::Mountain | Assignment::Valley)
+            && h.fold_angle.is_none_or(|a| a.abs() >= 1e-6);
+        if folds {
+            let d = flat[b] - flat[a];
+            creases[a].push(d.y.atan2(d.x));
+            creases[b].push((-d.y).atan2(-d.x));
+        }
+    }
+    creases
+        .into_iter()
+        .enumerate()
+        .filter(|(v, directions)| fan[*v] == 0 && !directions.is_empty())
+        .find_map(|(v, mut directions)| {
+            directions.sort_by(f64::total_cmp);
+            let by = kawasaki_defect(directions).unwrap_or(f64::NAN);
+            // An odd number of creases (NaN) fails too.
+            (by.is_nan() || by.abs() > KAWASAKI_TOLERANCE_DEG).then_some((v, by))
+        })
+}
+
 /// What a hinge does in a flat fold.
 enum Fold {
     Flat,
@@ -128,8 +168,9 @@ fn fold_of(hinge: &Hinge, at: DVec2) -> Result<Fold, PatternError> {
 
 impl FoldedGeometry {
     /// Folds `sheet` flat. Fails when a crease does not fold to 180
-    /// degrees, or when the creases do not close (the pattern breaks
-    /// Kawasaki's theorem somewhere, or its pieces overlap inconsistently).
+    /// degrees, when a vertex breaks Kawasaki's theorem by more than
+    /// drawing round-off, or when the creases do not close (its pieces
+    /// overlap inconsistently).
     pub(super) fn of(sheet: &Sheet) -> Result<FoldedGeometry, PatternError> {
         let flat: Vec<DVec2> = sheet
             .positions
@@ -137,6 +178,22 @@ impl FoldedGeometry {
             .map(|p| DVec2::new(p.x.into(), p.y.into()))
             .collect();
         let adjacency = Adjacency::of(sheet, &flat)?;
+        if let Some((v, by)) = kawasaki_failure(sheet, &flat) {
+            let at = flat[v];
+            let why = if by.is_nan() {
+                "an odd number of creases meets there".to_string()
+            } else {
+                format!(
+                    "its alternate sector angles sum to {:.3} and {:.3} deg, not 180 each",
+                    180.0 - by.abs(),
+                    180.0 + by.abs()
+                )
+            };
+            return Err(PatternError::new(
+                format!("vertex at ({:.4}, {:.4})", at.x, at.y),
+                format!("does not fold flat: Kawasaki's theorem fails there ({why})"),
+            ));
+        }
         let facet_of = facets(sheet.triangles.len(), &adjacency);
         let (motion, closure_error) = fold_motions(&flat, &facet_of, &adjacency)?;
         let diameter = diameter(&flat);
