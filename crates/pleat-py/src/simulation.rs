@@ -134,6 +134,15 @@ fn rows<T: Element + bytemuck::Pod, V: bytemuck::Pod>(values: &[V]) -> ArrayView
     ArrayView2::from_shape((values.len(), columns), flat).expect("rows of whole elements")
 }
 
+/// Issues `message` as a Python `UserWarning` (a crease pattern's importer
+/// warning, say), attributed to the caller.
+fn warn(py: Python<'_>, message: &str) -> PyResult<()> {
+    let message = std::ffi::CString::new(message.replace('\0', ""))
+        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+    PyErr::warn(py, category.as_any(), &message, 1)
+}
+
 #[pymethods]
 impl PySimulation {
     /// Builds `scene` on the `backend` ("cpu" or "gpu") with `threads`
@@ -155,9 +164,12 @@ impl PySimulation {
             .build()
             .map_err(|e| PyRuntimeError::new_err(format!("cannot start threads: {e}")))?;
         let spec = &scene.scene;
-        let (model, world) = spec
-            .model(&scene.base_dir, &scene.file)
+        let (model, world, warnings) = spec
+            .model_and_warnings(&scene.base_dir, &scene.file)
             .map_err(|e| scene_error(py, &e))?;
+        for w in warnings {
+            warn(py, &w.to_string())?;
+        }
         let built = py.detach(|| pleat_cli::backend_for(&model, &world, &spec.solver, backend));
         let backend = built.map_err(BackendError::new_err)?;
         Ok(PySimulation {

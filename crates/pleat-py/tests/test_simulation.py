@@ -115,6 +115,20 @@ def test_fold_progress_is_live(tmp_path):
     assert thickness(sim.positions) > 0.05
 
 
+def test_a_patterns_importer_warning_is_a_python_warning(tmp_path):
+    # A unit square folded flat along its diagonal, with neither a mountain
+    # or valley label nor faceOrders to say which way: not driven, and said.
+    fold = {
+        "frame_classes": ["foldedForm"],
+        "vertices_coords": [[0, 0, 0], [1, 0, 0], [0, 0, 0], [0, 1, 0]],
+        "faces_vertices": [[0, 1, 3], [1, 2, 3]],
+    }
+    (tmp_path / "flat.fold").write_text(json.dumps(fold))
+    scene = {"name": "undirected", "cloths": [{"mesh": {"pattern": {"path": "flat.fold"}}}]}
+    with pytest.warns(UserWarning, match=r"cloths\[0\]\.mesh\.pattern: .*flat\.fold: 1 crease is folded flat"):
+        pleat.Simulation(pleat.Scene.from_dict(scene, base_dir=tmp_path))
+
+
 def thickness(points):
     """The spread of `points` across their best-fitting plane (m)."""
     centred = points - points.mean(axis=0)
