@@ -29,22 +29,21 @@ fn block_index(at: Invocation) -> u32 {
     return at.wid.x + at.wid.y * at.groups.x;
 }
 
+fn position(i: u32) -> vec3<f32> {
+    return pos[i].xyz;
+}
+
+fn inv_mass(i: u32) -> f32 {
+    return pos[i].w;
+}
+
 // alpha~ = compliance * table[slot] / dt^2, rounded as the CPU does.
 fn alpha_of(compliance: f32, slot: u32) -> f32 {
     return compliance * (params.inv_dt2 * compliances[slot / 4u][slot % 4u]);
 }
 
-fn position(i: u32) -> vec3<f32> {
-    return particle(i).xyz;
-}
-
-fn inv_mass(i: u32) -> f32 {
-    return particle(i).w;
-}
-
 fn move_by(i: u32, dx: vec3<f32>) {
-    let x = particle(i);
-    set_particle(i, vec4<f32>(x.xyz + dx, x.w));
+    pos[i] = vec4<f32>(pos[i].xyz + dx, pos[i].w);
 }
 
 // atan2 to within 2e-6 rad: the polynomial of crate::constraint::bending::fast_atan2.

@@ -58,17 +58,10 @@ var<private> builds: u32;
 var<private> params: Params;
 
 // The sheet's positions and inverse masses for the dispatch (its
-// PARTICLES particles, set by the host).
+// PARTICLES particles, set by the host): the `pos` that common.wgsl and
+// the libraries read and write.
 override PARTICLES: u32;
 var<workgroup> pos: array<vec4<f32>, PARTICLES>;
-
-fn particle(i: u32) -> vec4<f32> {
-    return pos[i];
-}
-
-fn set_particle(i: u32, x: vec4<f32>) {
-    pos[i] = x;
-}
 
 // Orders the positions' writes before other invocations read them
 // (between colours).

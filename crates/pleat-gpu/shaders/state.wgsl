@@ -21,15 +21,6 @@ fn range_item(gid: vec3<u32>, groups: vec3<u32>) -> u32 {
     return select(NONE, range.first + k, k < range.count);
 }
 
-// Particle i's position and inverse mass, as the state holds them.
-fn particle(i: u32) -> vec4<f32> {
-    return pos[i];
-}
-
-fn set_particle(i: u32, x: vec4<f32>) {
-    pos[i] = x;
-}
-
 // Orders the positions' writes before a workgroup's invocations read
 // them (between colours of a kernel that sweeps them all in one
 // workgroup).

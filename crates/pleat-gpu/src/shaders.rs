@@ -2,8 +2,8 @@
 //! prelude, the libraries it uses and one kernel file: `structs.wgsl`,
 //! every struct the host writes or reads (each mirrors a Pod type, checked
 //! by `crate::layout`'s tests), `state.wgsl`, the particle state's bindings
-//! and accessors (`particle`, `set_particle`, `colour_barrier`; a
-//! persistent kernel binds and defines its own), then `common.wgsl`, the helpers
+//! (`pos` among them) and `colour_barrier` (a persistent kernel declares
+//! its own: `pos` in workgroup memory), then `common.wgsl`, the helpers
 //! every kernel shares (the XPBD multiplier update among them). A library
 //! (`shaders/lib/`) holds a constraint kind's work on one index, so that a
 //! kernel dispatched per colour and the persistent kernel run the same

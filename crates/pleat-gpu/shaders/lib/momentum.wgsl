@@ -39,8 +39,8 @@ fn add_sums(a: Sums, b: Sums) -> Sums {
 // Particle i's share.
 fn measure_particle(i: u32) -> Sums {
     var s = zero_sums();
-    let m = 1.0 / inv_mass(i);
-    let x = position(i);
+    let m = 1.0 / pos[i].w;
+    let x = pos[i].xyz;
     let p = prev[i].xyz;
     let d = (x - p) - vel[i].xyz * params.dt - left[i].xyz;
     s.mx = vec4<f32>(x * m, m);
@@ -81,7 +81,7 @@ fn spurious_turn(s: Sums) -> vec3<f32> {
 
 // Particle i turned by theta about `centre`.
 fn apply_turn(i: u32, theta: vec3<f32>, centre: vec3<f32>) {
-    let x = position(i);
+    let x = pos[i].xyz;
     let step = cross(theta, x - centre);
     let moved = x + step;
     // step - (moved - x) is the round-off of the sum, exactly; a compiler
@@ -89,5 +89,5 @@ fn apply_turn(i: u32, theta: vec3<f32>, centre: vec3<f32>) {
     // through an operation it cannot see through.
     let kept = bitcast<vec3<f32>>(bitcast<vec3<u32>>(moved) ^ vec3<u32>(params.opaque_zero));
     left[i] = vec4<f32>(step - (kept - x), 0.0);
-    set_particle(i, vec4<f32>(moved, inv_mass(i)));
+    pos[i] = vec4<f32>(moved, pos[i].w);
 }

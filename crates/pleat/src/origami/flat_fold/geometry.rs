@@ -114,9 +114,7 @@ fn kawasaki_failure(sheet: &Sheet, flat: &[DVec2]) -> Option<(usize, f64)> {
         // An interior vertex has as many edges, all hinges, as triangles.
         fan[a] -= 1;
         fan[b] -= 1;
-        let folds = matches!(h.assignment, Assignment::Mountain | Assignment::Valley)
-            && h.fold_angle.is_none_or(|a| a.abs() >= 1e-6);
-        if folds {
+        if let Ok(Fold::Crease { .. }) = fold_of(h, flat[a]) {
             let d = flat[b] - flat[a];
             creases[a].push(d.y.atan2(d.x));
             creases[b].push((-d.y).atan2(-d.x));
