@@ -20,7 +20,7 @@ pub use contact::{project_contacts, ColliderPose};
 pub use mesh_collider::MeshCollider;
 pub use rigid_body::{MassError, MassProperties, RigidBody};
 pub use sdf::{SdfError, SdfGrid};
-pub use self_contact::{SelfCollision, SelfContactStats, SelfContacts};
+pub use self_contact::{ContactMasses, SelfCollision, SelfContactStats, SelfContacts};
 pub use shape::Shape;
 
 use serde::{Deserialize, Serialize};

@@ -1,6 +1,7 @@
 //! Solvers: each advances the particles by one frame behind the same
 //! [`Solver`] interface, so scenes choose one by name.
 
+pub mod collider_held;
 pub mod coloring;
 pub mod grab_reach;
 pub mod hierarchy;

@@ -5,6 +5,7 @@
 //! (when enabled) and collider contacts and derives velocities from the
 //! change of position.
 
+use super::collider_held::ColliderHeld;
 use super::grab_reach::GrabReach;
 use super::hierarchy::Hierarchy;
 use super::momentum::FreeParts;
@@ -92,6 +93,8 @@ pub struct Xpbd {
     grab_reach: GrabReach,
     /// Self-collision and cloth-cloth contact, when enabled.
     self_contacts: Option<SelfContacts>,
+    /// The particles the colliders held, which the self-contacts leave.
+    collider_held: ColliderHeld,
 }
 
 /// The cloth's own constraints as XPBD projects them, each kind coloured
@@ -366,6 +369,7 @@ impl Xpbd {
                 .self_collision
                 .enabled
                 .then(|| SelfContacts::new(model, settings.self_collision)),
+            collider_held: ColliderHeld::default(),
         }
     }
 
@@ -393,7 +397,8 @@ impl Xpbd {
         });
         if let Some(self_contacts) = &mut self.self_contacts {
             let found = StageTimes::time(&mut stages.self_collision, || {
-                self_contacts.project(&mut p.x, &p.x_prev, &p.inv_mass)
+                let masses = self.collider_held.masses(&p.inv_mass);
+                self_contacts.project(&mut p.x, &p.x_prev, masses)
             });
             stages.self_contacts += found.active as u64;
             stages.self_contact_candidates += found.candidates as u64;
@@ -402,13 +407,34 @@ impl Xpbd {
             stages.self_narrow_phase += found.narrow_phase;
             stages.self_solve += found.solve;
         }
-        self.contacts.resolve(p, world, t, dt, stages);
+        self.resolve_contacts(p, world, (t, dt), stages);
         if self.limits_after_contacts(world) {
             StageTimes::time(&mut stages.constraints, || {
                 self.constraints.sweep_strain_limits(p)
             });
         }
         StageTimes::time(&mut stages.predict, || update_velocities(p, dt));
+    }
+
+    /// The colliders' contacts, noting the particles they held where the
+    /// self-contacts are on.
+    fn resolve_contacts(
+        &mut self,
+        p: &mut Particles,
+        world: &mut World,
+        (t, dt): (f32, f32),
+        stages: &mut StageTimes,
+    ) {
+        let noted = self.self_contacts.is_some();
+        if noted {
+            self.collider_held.before_colliders(&p.x);
+        }
+        self.contacts.resolve(p, world, t, dt, stages);
+        if noted {
+            let thickness = self.settings.self_collision.thickness;
+            self.collider_held
+                .after_colliders(&p.x, &p.x_prev, thickness);
+        }
     }
 
     /// Whether the strain limits are swept again after the contacts: where

@@ -42,6 +42,7 @@ use crate::model::Model;
 use broad_phase::BroadPhase;
 use glam::Vec3;
 use narrow_phase::Contact;
+pub use narrow_phase::ContactMasses;
 use patches::Patches;
 use rayon::prelude::*;
 use rest::RestNeighbourhood;
@@ -181,12 +182,13 @@ impl SelfContacts {
     }
 
     /// Resolves contacts between the substep's start `x_prev` and its
-    /// predicted positions `x` (moved in place).
+    /// predicted positions `x` (moved in place), weighing the particles by
+    /// `masses`.
     pub fn project(
         &mut self,
         x: &mut [Vec3],
         x_prev: &[Vec3],
-        inv_mass: &[f32],
+        masses: ContactMasses<'_>,
     ) -> SelfContactStats {
         let start = Instant::now();
         let built = self.needs_build(x);
@@ -196,7 +198,7 @@ impl SelfContacts {
                 &self.patches,
                 x_prev,
                 x,
-                inv_mass,
+                masses.inv_mass,
                 (self.settings.thickness, self.margin),
                 &mut self.contacts,
             );
@@ -221,7 +223,7 @@ impl SelfContacts {
             ..SelfContactStats::default()
         };
         for _ in 0..self.iterations {
-            stats.active = self.solve(x, x_prev, inv_mass, &mut stats.solve);
+            stats.active = self.solve(x, x_prev, masses, &mut stats.solve);
             // Nothing moved: the next iterations would find the same.
             if stats.active == 0 {
                 break;
@@ -254,7 +256,7 @@ impl SelfContacts {
         &mut self,
         x: &mut [Vec3],
         x_prev: &[Vec3],
-        inv_mass: &[f32],
+        masses: ContactMasses<'_>,
         solve: &mut Duration,
     ) -> usize {
         let s = self.settings;
@@ -267,7 +269,7 @@ impl SelfContacts {
                 .par_iter()
                 .with_min_len(MIN_TASK)
                 .filter_map(|c| {
-                    let delta = c.correction(xs, x_prev, inv_mass, &s)?;
+                    let delta = c.correction(xs, x_prev, masses, &s)?;
                     Some(Acted::new(c.particles(), delta))
                 }),
         );

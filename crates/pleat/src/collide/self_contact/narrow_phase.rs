@@ -95,15 +95,15 @@ impl Contact {
         &self,
         x: &[Vec3],
         x_prev: &[Vec3],
-        inv_mass: &[f32],
+        masses: ContactMasses<'_>,
         s: &SelfCollision,
     ) -> Option<[Vec3; 4]> {
         match self {
-            Contact::Pair(v) => pair_correction(*v, x, x_prev, inv_mass, s),
+            Contact::Pair(v) => pair_correction(*v, x, x_prev, masses, s),
             Contact::VertexTriangle(v, side) => {
-                vertex_triangle_correction(*v, *side, x, x_prev, inv_mass, s)
+                vertex_triangle_correction(*v, *side, x, x_prev, masses, s)
             }
-            Contact::EdgeEdge(e) => e.correction(x, x_prev, inv_mass, s),
+            Contact::EdgeEdge(e) => e.correction(x, x_prev, masses, s),
         }
     }
 }
@@ -142,7 +142,7 @@ impl EdgePair {
         &self,
         x: &[Vec3],
         x_prev: &[Vec3],
-        inv_mass: &[f32],
+        masses: ContactMasses<'_>,
         s: &SelfCollision,
     ) -> Option<[Vec3; 4]> {
         let [a0, a1, b0, b1] = self.v.map(|k| x[k as usize]);
@@ -158,7 +158,57 @@ impl EdgePair {
             return None;
         }
         let weights = [1.0 - self.s, self.s, self.u - 1.0, -self.u];
-        separate(self.v, weights, normal, height, x, x_prev, inv_mass, s)
+        separate(self.v, weights, normal, height, x, x_prev, masses, s)
+    }
+}
+
+/// The particles' inverse masses in the self-contacts, and which ones a
+/// collider held in the last substep (`crate::solver::collider_held`).
+#[derive(Clone, Copy, Debug)]
+pub struct ContactMasses<'a> {
+    /// Per particle.
+    pub inv_mass: &'a [f32],
+    /// Empty where none is held.
+    pub held: &'a [bool],
+}
+
+impl<'a> ContactMasses<'a> {
+    /// The masses `inv_mass`, none held.
+    pub fn free(inv_mass: &'a [f32]) -> Self {
+        ContactMasses {
+            inv_mass,
+            held: &[],
+        }
+    }
+
+    fn held(&self, k: u32) -> bool {
+        self.held.get(k as usize).copied().unwrap_or(false)
+    }
+
+    /// The inverse masses of a contact's particles `v`, whose shares of the
+    /// contact point are `weights` (positive on one side, negative on the
+    /// other): none on a side whose every particle that shares in the
+    /// point a collider held, where the other side can move. The collider
+    /// stands behind them, so the other side gives way: a cloth lying on
+    /// the floor is not pushed into it by one landing on it (for the
+    /// floor to lift it back up through the cloth above). A side only
+    /// partly held keeps its masses: moving its free particles alone, far
+    /// to move the point a little (a lever), is worse.
+    pub fn of<const N: usize>(&self, v: [u32; N], weights: [f32; N]) -> [f32; N] {
+        let w = v.map(|k| self.inv_mass[k as usize]);
+        let mut held = w;
+        for side in [1.0, -1.0] {
+            let sharing = (0..N).filter(|&k| weights[k] * side > 0.0);
+            if sharing.clone().all(|k| self.held(v[k])) {
+                sharing.for_each(|k| held[k] = 0.0);
+            }
+        }
+        let moves = (0..N).any(|k| held[k] * weights[k] != 0.0);
+        if moves {
+            held
+        } else {
+            w
+        }
     }
 }
 
@@ -185,13 +235,14 @@ fn pair_correction(
     v: [u32; 2],
     x: &[Vec3],
     x_prev: &[Vec3],
-    inv_mass: &[f32],
+    masses: ContactMasses<'_>,
     s: &SelfCollision,
 ) -> Option<[Vec3; 4]> {
     let [i, j] = v.map(|k| k as usize);
     let diff = x[i] - x[j];
     let dist = diff.length();
-    let w = inv_mass[i] + inv_mass[j];
+    let [wi, wj] = masses.of(v, [1.0, -1.0]);
+    let w = wi + wj;
     if dist >= s.thickness || dist == 0.0 || w == 0.0 {
         return None;
     }
@@ -204,7 +255,7 @@ fn pair_correction(
         &s.friction,
     );
     let g = (normal * depth - slip) / w;
-    Some([g * inv_mass[i], -g * inv_mass[j], Vec3::ZERO, Vec3::ZERO])
+    Some([g * wi, -g * wj, Vec3::ZERO, Vec3::ZERO])
 }
 
 /// Corrections of a vertex closer to a triangle than the thickness, or that
@@ -217,7 +268,7 @@ fn vertex_triangle_correction(
     belongs: i8,
     x: &[Vec3],
     x_prev: &[Vec3],
-    inv_mass: &[f32],
+    masses: ContactMasses<'_>,
     s: &SelfCollision,
 ) -> Option<[Vec3; 4]> {
     let [p, a, b, c] = v.map(|k| x[k as usize]);
@@ -252,7 +303,7 @@ fn vertex_triangle_correction(
     };
     // Weights of the vertex (+) and of the triangle's contact point (-).
     let weights = [1.0, -beta[0], -beta[1], -beta[2]];
-    separate(v, weights, side * normal, height, x, x_prev, inv_mass, s)
+    separate(v, weights, side * normal, height, x, x_prev, masses, s)
 }
 
 /// Moves the contact points `sum_k weights[k] x[v[k]]` apart along `normal`
@@ -267,10 +318,10 @@ fn separate(
     height: f32,
     x: &[Vec3],
     x_prev: &[Vec3],
-    inv_mass: &[f32],
+    masses: ContactMasses<'_>,
     s: &SelfCollision,
 ) -> Option<[Vec3; 4]> {
-    let w = v.map(|k| inv_mass[k as usize]);
+    let w = masses.of(v, weights);
     let generalized: f32 = (0..4).map(|k| weights[k] * weights[k] * w[k]).sum();
     if generalized == 0.0 {
         return None;
@@ -301,7 +352,8 @@ mod tests {
         let x_prev = [Vec3::new(0.0, 0.01, 0.0), Vec3::new(0.005, 0.0, 0.0)];
         let inv_mass = [1.0, 3.0];
         let s = SelfCollision::default();
-        let d = pair_correction([0, 1], &x, &x_prev, &inv_mass, &s).expect("touching");
+        let d = pair_correction([0, 1], &x, &x_prev, ContactMasses::free(&inv_mass), &s)
+            .expect("touching");
         assert!(momentum_change(&[0, 1], d, &inv_mass).length() < 1e-6);
         let gap = (x[0] + d[0]).distance(x[1] + d[1]);
         assert!(gap >= s.thickness - 1e-3, "gap {gap}");
@@ -325,7 +377,8 @@ mod tests {
         let inv_mass = [1.0, 2.0, 0.5, 1.0];
         let s = SelfCollision::default();
         let v = [0, 1, 2, 3];
-        let d = vertex_triangle_correction(v, 0, &x, &x_prev, &inv_mass, &s).expect("crossed");
+        let d = vertex_triangle_correction(v, 0, &x, &x_prev, ContactMasses::free(&inv_mass), &s)
+            .expect("crossed");
         assert!(momentum_change(&v, d, &inv_mass).length() < 1e-6);
         let moved: Vec<Vec3> = x.iter().zip(d).map(|(x, d)| *x + d).collect();
         let normal = (moved[2] - moved[1]).cross(moved[3] - moved[1]).normalize();
@@ -343,7 +396,8 @@ mod tests {
         let v = [0, 1, 2, 3];
         let lift = |end_z: f32, belongs: i8| {
             let x = [Vec3::new(0.02, 0.02, end_z), tri[0], tri[1], tri[2]];
-            vertex_triangle_correction(v, belongs, &x, &x_prev, &inv_mass, &s).map(|d| d[0].z)
+            vertex_triangle_correction(v, belongs, &x, &x_prev, ContactMasses::free(&inv_mass), &s)
+                .map(|d| d[0].z)
         };
         // Above by more than the thickness: let through where it belongs
         // above, pulled back below where it belongs below or nothing is
@@ -421,7 +475,7 @@ mod tests {
         let mut contact = edge_pair(v, &x, true);
         contact.detect_crossing(&x, &x_prev);
         let d = contact
-            .correction(&x, &x_prev, &inv_mass, &s)
+            .correction(&x, &x_prev, ContactMasses::free(&inv_mass), &s)
             .expect("crossed");
         assert!(momentum_change(&v, d, &inv_mass).length() < 1e-6);
         let moved: Vec<Vec3> = x.iter().zip(d).map(|(x, d)| *x + d).collect();
@@ -442,10 +496,15 @@ mod tests {
         let s = SelfCollision::default();
         let mut contact = edge_pair([0, 1, 2, 3], &x, false);
         contact.detect_crossing(&x, &x);
-        let d = contact.correction(&x, &x, &inv_mass, &s).expect("near");
+        let d = contact
+            .correction(&x, &x, ContactMasses::free(&inv_mass), &s)
+            .expect("near");
         let gap = (x[0] + d[0]).y - (x[2] + d[2]).y;
         assert!((gap - s.thickness).abs() < 1e-5, "gap {gap}");
         let far = [x[0] + Vec3::Y * 0.01, x[1] + Vec3::Y * 0.01, x[2], x[3]];
-        assert_eq!(contact.correction(&far, &far, &inv_mass, &s), None);
+        assert_eq!(
+            contact.correction(&far, &far, ContactMasses::free(&inv_mass), &s),
+            None
+        );
     }
 }
