@@ -10,8 +10,8 @@
 // each tried only where the two features' boxes over the substep come
 // within the thickness, in the Jacobi iterations of self_contact.wgsl.
 // The pairs within the thickness plus a margin are kept over substeps
-// while no particle has moved half the margin (as contact_grid.wgsl keeps
-// its candidates).
+// and dispatches while no particle has moved half the margin (as
+// contact_grid.wgsl keeps its candidates).
 //
 // The positions live in workgroup memory for the dispatch: read from
 // `pos_buffer` at its start, written back at its end. Every constraint
@@ -279,10 +279,17 @@ fn parallel_edges(k: u32) -> bool {
     return abs(dot(flat_normal(edge_wings(first & ~EDGE_PAIR)), flat_normal(edge_wings(second)))) > PARALLEL;
 }
 
-// The pairs kept at the last build follow the frame's three counts in
-// `topology`, then the positions at that build, three words a particle.
-fn kept_start() -> u32 {
+// The frame's three counts in `topology` are followed by the last build's
+// kept pairs plus one (zero before the first) and the reach they were kept
+// within, so that a dispatch goes on with the pairs the one before kept;
+// then the kept pairs, then the positions at that build, three words a
+// particle.
+fn kept_state() -> u32 {
     return program.contact_counts + 3u;
+}
+
+fn kept_start() -> u32 {
+    return kept_state() + 2u;
 }
 
 fn build_start() -> u32 {
@@ -295,16 +302,21 @@ fn build_position(i: u32) -> vec3<f32> {
 }
 
 // Keeps the pairs whose features lie within the thickness plus the margin
-// (a build), where this is the dispatch's first substep or some particle
+// (a build), where none are kept yet, the reach changed or some particle
 // moved more than half the margin since the last build: a pair left out
 // cannot have come within the thickness, nor crossed, since. Kept pairs
 // are listed in no fixed order; their corrections' sums do not depend on
 // it.
-fn keep_pairs(t: u32, first_substep: bool) {
+fn keep_pairs(t: u32) {
     let half = 0.5 * params.contact_margin;
+    let reach = params.contact_thickness + params.contact_margin;
+    let state = kept_state();
+    if t == 0u && (topology[state] == 0u || bitcast<f32>(topology[state + 1u]) != reach) {
+        atomicStore(&moved, 1u);
+    }
     for (var i = t; i < params.particle_count; i += THREADS) {
         let d = position(i) - build_position(i);
-        if first_substep || dot(d, d) > half * half {
+        if dot(d, d) > half * half {
             atomicStore(&moved, 1u);
         }
     }
@@ -320,7 +332,6 @@ fn keep_pairs(t: u32, first_substep: bool) {
     // Every invocation meets every barrier: the build's loops alone are
     // conditional.
     let build = workgroupUniformLoad(&rebuilding) != 0u;
-    let reach = params.contact_thickness + params.contact_margin;
     for (var k = t; build && k < program.contact_pairs; k += THREADS) {
         let boxes = pair_boxes(k);
         if boxes_near(boxes[0], boxes[1], reach) && !parallel_edges(k) {
@@ -335,14 +346,26 @@ fn keep_pairs(t: u32, first_substep: bool) {
         topology[k + 2u] = p.z;
     }
     workgroupBarrier();
+    if build && t == 0u {
+        topology[state] = atomicLoad(&kept) + 1u;
+        topology[state + 1u] = bitcast<u32>(reach);
+    }
     storageBarrier();
+}
+
+// The pairs the last dispatch kept, as the dispatch starts.
+fn load_kept(t: u32) {
+    let stored = topology[kept_state()];
+    if t == 0u && stored != 0u {
+        atomicStore(&kept, stored - 1u);
+    }
 }
 
 // The substep's self-contacts: the kept pairs in Jacobi iterations, each
 // iteration's corrections applied once all are summed; the last
 // iteration's acting contacts counted.
-fn self_contacts(t: u32, first_substep: bool) {
-    keep_pairs(t, first_substep);
+fn self_contacts(t: u32) {
+    keep_pairs(t);
     let count = atomicLoad(&kept);
     let last = program.contact_iterations - 1u;
     for (var iteration = 0u; iteration <= last; iteration++) {
@@ -377,12 +400,13 @@ fn frame(@builtin(local_invocation_index) t: u32) {
 // then the kept pairs and their build's positions.
 @compute @workgroup_size(THREADS)
 fn frame_with_contacts(@builtin(local_invocation_index) t: u32) {
+    load_kept(t);
     load_positions(t);
     for (var s = chunk.x; s < min(chunk.x + chunk.y, program.substeps); s++) {
         params = substeps[s].p;
         substep(t);
         full_barrier();
-        self_contacts(t, s == chunk.x);
+        self_contacts(t);
         finish_substep(t);
     }
     store_positions(t);

@@ -9,7 +9,10 @@ use glam::Vec3;
 use pleat::constraint::bending::dihedral_angle;
 use pleat::constraint::{ComplianceKind, Compliances, FoldDrive, Grab};
 use pleat::control::Control;
-use pleat::folding::{paper_model, paper_simulation_on, paper_solver_settings, FoldRamp};
+use pleat::folding::{
+    paper_model, paper_simulation_on, paper_solver_settings, paper_solver_settings_with_contact,
+    FoldRamp,
+};
 use pleat::origami::{load_pattern, Sheet, SheetOptions};
 use pleat::stability::{mechanical_energy, tear_edges, Instability};
 use pleat::{Backend, Simulation};
@@ -895,4 +898,35 @@ fn a_cloth_thrown_at_8_m_s_onto_a_cloth_on_the_floor_stays_on_it() {
         crossings.iter().any(|&n| n > 0) && lowest < floor_cloth + 0.001,
         "{crossings:?}, {lowest}"
     );
+}
+
+/// The persistent kernel keeps a sheet's contact pairs over its dispatches
+/// and frames: Origami Simulator's crane with a thickness, lying flat and
+/// still, builds them once in ten frames (a CPU adapter cuts each frame
+/// into dozens of dispatches, which each built them anew before).
+#[test]
+fn a_still_sheet_keeps_its_contact_pairs_over_dispatches_and_frames() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../patterns/origami-simulator/traditionalCrane.svg");
+    let sheet =
+        Sheet::from_pattern(&load_pattern(&path).unwrap(), &SheetOptions::default()).unwrap();
+    let (model, world) = paper_model(&sheet);
+    let settings = paper_solver_settings_with_contact(0.0005);
+    let (backend, _) = GpuBackend::new(context(), &model, &world, &settings).unwrap();
+    let ramp = FoldRamp {
+        progress: 0.0,
+        frames: 120,
+    };
+    let mut sim = paper_simulation_on((model, world), settings, Box::new(backend), ramp);
+    for _ in 0..10 {
+        sim.step(1.0 / 60.0);
+    }
+    sim.sync();
+    // The persistent kernel: fewer dispatches a frame than substeps.
+    let dispatches = sim.backend().dispatches_per_frame().unwrap();
+    assert!(
+        dispatches < sim.settings.substeps,
+        "{dispatches} dispatches"
+    );
+    assert_eq!(sim.stages.self_contact_builds, 1);
 }

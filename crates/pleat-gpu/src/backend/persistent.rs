@@ -50,10 +50,10 @@ const CPU_LANES: u32 = 8;
 /// which run only while an edge stays beyond its slack.
 const CPU_LOOP_BUDGET: u32 = 32_768;
 /// Fewest substeps a dispatch with self-contacts runs on a CPU adapter;
-/// fewer, and the per-substep path is taken. Each dispatch builds its kept
-/// pairs anew from all the pairs: on lavapipe, hypar.svg with a thickness
-/// (a substep a dispatch) took 1,391 ms a frame against the per-substep
-/// path's 999, the crane (three a dispatch) 237 against 839.
+/// fewer, and the per-substep path is taken. When each dispatch built its
+/// kept pairs anew from all the pairs, hypar.svg with a thickness (a
+/// substep a dispatch) took 1,391 ms a frame on lavapipe against the
+/// per-substep path's 999, the crane (three a dispatch) 237 against 839.
 const MIN_CONTACT_CHUNK: u32 = 2;
 /// Colour slices and free cloths the program holds (`slices`).
 const SLICES: usize = 256;
@@ -208,9 +208,10 @@ impl Persistent {
             entries: &[storage(0)],
         });
         let contacts = with_contacts.map(|c| {
-            // Then the frame's three counts, the kept pairs and their
-            // build's positions (written by the kernel).
-            let room = 3 + c.pairs.len() / 2 + 3 * sheet.particles;
+            // Then the frame's three counts, the kept pairs' count and
+            // reach, the kept pairs and their build's positions (written
+            // by the kernel).
+            let room = 3 + 2 + c.pairs.len() / 2 + 3 * sheet.particles;
             let words = [&c.topology[..], &c.pairs, &vec![0; room]].concat();
             let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("persistent contacts"),
