@@ -1,11 +1,7 @@
 // Cloth-collider contacts with Coulomb friction (crate::collide::contact):
 // each particle against every collider in turn, at the collider's pose over
 // the substep. Shapes: plane, sphere, box, capsule and distance fields on a
-// grid (meshes are baked into one before upload). A particle resting on a
-// collider (moved by its contact, and by less than RESTING self-contact
-// thicknesses in the substep) is noted as held, in its velocity's w, for
-// the next substep's self-contacts (lib/contact_solve.wgsl's `held`;
-// crate::solver::collider_held).
+// grid (meshes are baked into one before upload).
 
 @group(1) @binding(0) var<storage, read_write> colliders: array<Collider>;
 @group(1) @binding(1) var<storage, read_write> poses: array<Pose>;
@@ -182,10 +178,6 @@ fn push_out(x: ptr<function, vec3<f32>>, reach: f32, c: Collider, pose: Pose) {
     }
 }
 
-// Self-contact thicknesses within which a particle that a collider's
-// contact moved rests on it (crate::solver::collider_held::RESTING).
-const RESTING: f32 = 0.5;
-
 @compute @workgroup_size(256)
 fn resolve(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let i = flat_index(gid, groups);
@@ -194,11 +186,8 @@ fn resolve(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroup
     }
     var x = position(i);
     let x_prev = prev[i].xyz;
-    var held = false;
     for (var k = 0u; k < params.collider_count; k++) {
-        held = contact(&x, x_prev, thickness[i], colliders[k], poses[params.substep * params.collider_count + k]) || held;
+        contact(&x, x_prev, thickness[i], colliders[k], poses[params.substep * params.collider_count + k]);
     }
     pos[i] = vec4<f32>(x, pos[i].w);
-    let resting = distance(x, x_prev) < RESTING * params.contact_thickness;
-    vel[i].w = select(0.0, 1.0, held && resting);
 }

@@ -416,10 +416,6 @@ fn find(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) 
     let size = cell_size();
     let cell = cell_of(p, size);
     let reach = params.contact_thickness + margin();
-    // A triangle that i's path over the substep went through lies within
-    // reach of it plus that path, if the triangle stood still (its own
-    // vertices' paths find it where they went through another's face).
-    let swept_reach = reach + distance(p, prev[i].xyz);
     let owned_start = 3u * params.triangle_count;
     let owned = owned_start + params.particle_count + 1u;
     for (var dz = -1; dz <= 1; dz++) {
@@ -438,12 +434,12 @@ fn find(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) 
                     }
                     // Every point of j's triangles lies within their span
                     // of j.
-                    let span = rest[params.particle_count + j].w + swept_reach;
+                    let span = rest[params.particle_count + j].w + reach;
                     if dot(d, d) >= span * span {
                         continue;
                     }
                     for (var a = topology[owned_start + j]; a < topology[owned_start + j + 1u]; a++) {
-                        consider_triangle(i, home, topology[owned + a], swept_reach);
+                        consider_triangle(i, home, topology[owned + a], reach);
                     }
                 }
             }

@@ -102,5 +102,5 @@ fn gather(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     let v = vel[i].xyz;
     let cap = length(v - air_velocity(position(i), params.t));
     let len = length(dv);
-    vel[i] = vec4<f32>(v + select(dv, dv * (cap / len), len > cap), vel[i].w);
+    vel[i] = vec4<f32>(v + select(dv, dv * (cap / len), len > cap), 0.0);
 }

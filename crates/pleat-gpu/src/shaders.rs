@@ -245,7 +245,6 @@ mod tests {
     #[test]
     fn constants_are_the_cores() {
         use pleat::constraint::hinge::STIFFENING_ANGLE;
-        use pleat::solver::collider_held::RESTING;
         use pleat::solver::xpbd::{
             FOLD_HOLD_SWEEPS, MAX_STRAIN_LIMIT_SWEEPS, STRAIN_LIMIT_SLACK, STRAIN_LIMIT_SWEEPS,
         };
@@ -259,7 +258,6 @@ mod tests {
             (DISTANCE, "STRAIN_LIMIT_SLACK", STRAIN_LIMIT_SLACK as f64),
             (DISTANCE, "FOLD_HOLD_SWEEPS", FOLD_HOLD_SWEEPS as f64),
             (HINGE, "STIFFENING_ANGLE", STIFFENING_ANGLE as f64),
-            (COLLIDE, "RESTING", RESTING as f64),
         ];
         for (m, name, core) in pairs {
             assert_eq!(constant(m, name), core, "{}.wgsl's {name}", m.name);

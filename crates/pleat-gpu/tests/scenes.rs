@@ -839,67 +839,6 @@ fn stage_times_keep_coming_after_the_substeps_are_raised() {
     );
 }
 
-/// A cloth thrown flat at 8 m/s onto a cloth lying on the floor, the
-/// thickness 5 mm: its vertices move 13 mm a substep, more than two
-/// thicknesses, so a vertex can start a substep above the floor cloth and
-/// end it farther below it than the thickness.
-const THROWN: &str = r#"{ "name": "thrown", "frames": 30, "fps": 60,
-    "solver": { "substeps": 10, "damping": 0.1,
-                "self_collision": { "enabled": true, "thickness": 0.005 } },
-    "cloths": [
-      { "mesh": { "grid": { "resolution": [16, 16], "size": [0.8, 0.8], "orientation": "horizontal", "center": [0, 0.006, 0] } },
-        "material": { "density": 0.2, "stretch_compliance": 0.0, "shear_compliance": 1e-6, "bend_compliance": 1.0, "thickness": 0.005 } },
-      { "mesh": { "grid": { "resolution": [12, 12], "size": [0.5, 0.5], "orientation": "horizontal", "center": [0.013, 0.045, 0.017] } },
-        "material": { "density": 0.2, "stretch_compliance": 0.0, "shear_compliance": 1e-6, "bend_compliance": 1.0, "thickness": 0.005 } } ],
-    "colliders": [ { "shape": { "plane": {} } } ] }"#;
-
-/// The crossings every 5 frames of the thrown cloth's first half second,
-/// and its lowest height at the end.
-fn thrown_cloth(mut sim: Simulation, scene: &pleat::scene::Scene) -> (Vec<usize>, f32) {
-    let top = sim.model.cloths[1].particles();
-    sim.sync();
-    for v in &mut sim.particles.v[top.clone()] {
-        *v = Vec3::new(0.0, -8.0, 0.0);
-    }
-    sim.upload();
-    let crossings = (0..6)
-        .map(|_| {
-            run(&mut sim, scene, 5);
-            let m = sim.metrics();
-            assert!(!m.nan && !m.unstable, "{m:?}");
-            m.self_intersections
-        })
-        .collect();
-    let lowest = sim.particles.x[top]
-        .iter()
-        .map(|p| p.y)
-        .fold(f32::MAX, f32::min);
-    (crossings, lowest)
-}
-
-/// The thrown cloth ends lying on the floor cloth, one thickness above it,
-/// on both backends, with no crossing at any 5th frame; without
-/// self-collision it lands in it, on the floor.
-#[test]
-fn a_cloth_thrown_at_8_m_s_onto_a_cloth_on_the_floor_stays_on_it() {
-    let mut scene = scene(THROWN);
-    let floor_cloth = 0.006 - 0.001;
-    for (name, sim) in [("cpu", cpu(&scene)), ("gpu", gpu(&scene))] {
-        let (crossings, lowest) = thrown_cloth(sim, &scene);
-        assert!(crossings.iter().all(|&n| n == 0), "{name}: {crossings:?}");
-        assert!(
-            lowest > floor_cloth + 0.004 && lowest < 0.02,
-            "{name}: lowest at {lowest}"
-        );
-    }
-    scene.solver.self_collision.enabled = false;
-    let (crossings, lowest) = thrown_cloth(gpu(&scene), &scene);
-    assert!(
-        crossings.iter().any(|&n| n > 0) && lowest < floor_cloth + 0.001,
-        "{crossings:?}, {lowest}"
-    );
-}
-
 /// The persistent kernel keeps a sheet's contact pairs over its dispatches
 /// and frames: Origami Simulator's crane with a thickness, lying flat and
 /// still, builds them once in ten frames (a CPU adapter cuts each frame

@@ -6,11 +6,9 @@
 //! Without it a cloth lying on the floor is pushed into the floor by a
 //! cloth landing on it, and the floor's contact then lifts it back up
 //! through the cloth above: a cloth thrown at 8 m/s onto one lying on the
-//! floor passed through it on both backends. A particle carried faster is
-//! left out: a towel swept off its rail at 10 m/s would stand immovable
-//! for a substep where it no longer was, and other layers crossed it.
-//! The GPU backend notes the same in each particle's velocity
-//! (collide.wgsl).
+//! floor passed through it. A particle carried faster is left out: a
+//! towel swept off its rail at 10 m/s would stand immovable for a substep
+//! where it no longer was. The GPU backend has no such rule yet.
 
 use crate::collide::ContactMasses;
 use glam::Vec3;
