@@ -355,9 +355,8 @@ fn keep_pairs(t: u32) {
 
 // The pairs the last dispatch kept, as the dispatch starts.
 fn load_kept(t: u32) {
-    let stored = topology[kept_state()];
-    if t == 0u && stored != 0u {
-        atomicStore(&kept, stored - 1u);
+    if t == 0u && topology[kept_state()] != 0u {
+        atomicStore(&kept, topology[kept_state()] - 1u);
     }
 }
 

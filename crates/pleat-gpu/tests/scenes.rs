@@ -121,6 +121,22 @@ fn miura_ori_folds_to_half_like_the_cpu() {
     );
 }
 
+/// Origami Simulator's traditional crane on the GPU backend with the paper
+/// defaults and `settings`, folding to `progress` over 120 frames.
+fn crane_on_gpu(settings: pleat::solver::SolverSettings, progress: f32) -> Simulation {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../patterns/origami-simulator/traditionalCrane.svg");
+    let sheet =
+        Sheet::from_pattern(&load_pattern(&path).unwrap(), &SheetOptions::default()).unwrap();
+    let (model, world) = paper_model(&sheet);
+    let (backend, _) = GpuBackend::new(context(), &model, &world, &settings).unwrap();
+    let ramp = FoldRamp {
+        progress,
+        frames: 120,
+    };
+    paper_simulation_on((model, world), settings, Box::new(backend), ramp)
+}
+
 #[test]
 fn a_folding_crane_keeps_no_angular_momentum_on_the_gpu() {
     // The crane's creases fight: Gauss-Seidel sweeps of them turn the
@@ -128,23 +144,7 @@ fn a_folding_crane_keeps_no_angular_momentum_on_the_gpu() {
     // (momentum.wgsl). A quarter folded, after 30 frames, the sheet held
     // 5.8e-5 kg m^2/s without it, 2.6e-5 with the turn's round-off
     // simplified away by the shader compiler, 7e-7 with both.
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../patterns/origami-simulator/traditionalCrane.svg");
-    let sheet =
-        Sheet::from_pattern(&load_pattern(&path).unwrap(), &SheetOptions::default()).unwrap();
-    let (model, world) = paper_model(&sheet);
-    let (backend, _) =
-        GpuBackend::new(context(), &model, &world, &paper_solver_settings()).unwrap();
-    let ramp = FoldRamp {
-        progress: 1.0,
-        frames: 120,
-    };
-    let mut sim = paper_simulation_on(
-        (model, world),
-        paper_solver_settings(),
-        Box::new(backend),
-        ramp,
-    );
+    let mut sim = crane_on_gpu(paper_solver_settings(), 1.0);
     for _ in 0..30 {
         sim.step(1.0 / 60.0);
     }
@@ -845,18 +845,7 @@ fn stage_times_keep_coming_after_the_substeps_are_raised() {
 /// into dozens of dispatches, which each built them anew before).
 #[test]
 fn a_still_sheet_keeps_its_contact_pairs_over_dispatches_and_frames() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../patterns/origami-simulator/traditionalCrane.svg");
-    let sheet =
-        Sheet::from_pattern(&load_pattern(&path).unwrap(), &SheetOptions::default()).unwrap();
-    let (model, world) = paper_model(&sheet);
-    let settings = paper_solver_settings_with_contact(0.0005);
-    let (backend, _) = GpuBackend::new(context(), &model, &world, &settings).unwrap();
-    let ramp = FoldRamp {
-        progress: 0.0,
-        frames: 120,
-    };
-    let mut sim = paper_simulation_on((model, world), settings, Box::new(backend), ramp);
+    let mut sim = crane_on_gpu(paper_solver_settings_with_contact(0.0005), 0.0);
     for _ in 0..10 {
         sim.step(1.0 / 60.0);
     }
