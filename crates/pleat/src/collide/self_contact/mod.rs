@@ -434,7 +434,7 @@ mod tests {
         );
     }
 
-    /// Two cloths pressed into each other, the upper one crumpled: a
+    /// Two cloths pressed into each other, the upper one's heights jittered: a
     /// substep's solve, evaluating after the first iteration only the
     /// contacts whose particles moved, ends bit for bit where evaluating
     /// every contact every iteration ends.
