@@ -609,11 +609,12 @@ impl Scan<'_> {
     /// are left to the vertex-triangle contacts, which hold such layers
     /// apart (a layer's vertices a thickness from the other's plane keep
     /// its edges there too); stacked cloth has several times more of these
-    /// pairs than vertex-triangle ones. So, where the candidates are found
-    /// every substep (cloth), are pairs that cannot cross, lie beyond the
-    /// thickness and meet at an end of either edge: crumpled cloth has
-    /// several times more edge pairs within reach than acting contacts,
-    /// most of them so.
+    /// pairs than vertex-triangle ones. Where the candidates are found every
+    /// substep (cloth, no margin), so are pairs that cannot cross, lie
+    /// beyond the thickness and are closest at an end of either edge: that
+    /// end's vertex-triangle contacts hold them (crumpled cloth has several
+    /// times more edge pairs within reach than acting contacts, most of
+    /// them such).
     fn edge_pairs(&self, a: &Near, b: &Near, same: bool, out: &mut Vec<Contact>) {
         for (k, &(e, eb)) in a.edges.iter().enumerate() {
             let from = if same { k + 1 } else { 0 };
@@ -637,9 +638,6 @@ impl Scan<'_> {
                 let (s, u) = ccd::segment_closest_params(a0, a1, b0, b1);
                 let distance = a0.lerp(a1, s).distance(b0.lerp(b1, u));
                 let may_cross = distance <= em + fm;
-                // Found every substep (cloth), a pair beyond the thickness
-                // whose closest points hold an end of either edge is left
-                // to that end's vertex-triangle contacts.
                 let interior = s > 0.0 && s < 1.0 && u > 0.0 && u < 1.0;
                 let near =
                     !parallel && (interior || self.margin > 0.0 || distance < self.thickness);
