@@ -79,6 +79,10 @@ pub const MOVING_FOLD_STRAIN_SCALE: f32 = 20.0;
 /// stop once no edge is beyond its limit; the crane, jammed, takes all.
 pub const FOLD_HOLD_SWEEPS: u32 = 500;
 
+/// Sweeps of the held strain limits between two checks by the self-contacts
+/// when a fold comes to rest.
+const HOLD_ROUND_SWEEPS: u32 = 10;
+
 /// The XPBD solver: substeps of coloured, compliant constraint projections,
 /// then self-contacts and collider contacts.
 pub struct Xpbd {
@@ -326,14 +330,18 @@ impl XpbdConstraints {
     /// leaving the velocities as they are: a fold that came to rest meets
     /// its held limits without the corrections becoming motion.
     pub fn meet_held_limits(&self, p: &mut Particles) {
-        for _ in 0..FOLD_HOLD_SWEEPS {
+        self.sweep_held_limits(p, FOLD_HOLD_SWEEPS);
+    }
+
+    /// Up to `sweeps` sweeps of the held strain limits over the positions
+    /// alone; returns whether they stopped with every edge within its limit.
+    fn sweep_held_limits(&self, p: &mut Particles, sweeps: u32) -> bool {
+        (0..sweeps).any(|_| {
             let beyond = self
                 .distance
                 .sweep(&mut p.x, &p.inv_mass, |c, x| c.project_limit(x, 1.0));
-            if beyond <= 0.0 {
-                break;
-            }
-        }
+            beyond <= 0.0
+        })
     }
 
     /// The strain limits' own sweeps: [`STRAIN_LIMIT_SWEEPS`], then more
@@ -437,6 +445,28 @@ impl Xpbd {
         }
     }
 
+    /// Meets the held strain limits over the positions alone
+    /// ([`FOLD_HOLD_SWEEPS`]), where the paper has self-contacts in rounds of
+    /// [`HOLD_ROUND_SWEEPS`] sweeps, each round's motion then checked by the
+    /// contacts as a substep's is, so that no layer is carried through
+    /// another while the limits tighten.
+    fn meet_held_limits(&mut self, p: &mut Particles) {
+        let Some(self_contacts) = &mut self.self_contacts else {
+            self.constraints.meet_held_limits(p);
+            return;
+        };
+        let mut start = p.x.clone();
+        for _ in 0..FOLD_HOLD_SWEEPS.div_ceil(HOLD_ROUND_SWEEPS) {
+            start.copy_from_slice(&p.x);
+            let met = self.constraints.sweep_held_limits(p, HOLD_ROUND_SWEEPS);
+            let masses = self.collider_held.masses(&p.inv_mass);
+            self_contacts.project(&mut p.x, &start, masses);
+            if met {
+                break;
+            }
+        }
+    }
+
     /// Whether the strain limits are swept again after the contacts: where
     /// cloth that is not paper has them and something touches it (a
     /// collider, itself). Contacts with friction hold particles back where
@@ -485,9 +515,7 @@ impl super::Solver for Xpbd {
     ) {
         self.constraints.hold_fold(control.fold.held);
         if self.constraints.fold_limits.take_came_to_rest() {
-            StageTimes::time(&mut stages.constraints, || {
-                self.constraints.meet_held_limits(particles)
-            });
+            StageTimes::time(&mut stages.constraints, || self.meet_held_limits(particles));
         }
         let substeps = self.settings.substeps;
         for (t, dt, control) in super::substep_times(world.time, control, substeps) {
