@@ -14,10 +14,15 @@
 // a hash grid of the particles (count, multi-workgroup exclusive prefix
 // sum, scatter) and `find`.
 //
-// Pairs of one cloth closer at rest than the exclusion radius (twice the
-// thickness) never collide: the cloth's stretch and bending keep them
-// apart. Flat cloth thus gives no candidates, since the margin keeps
-// thickness + margin below that radius.
+// Pairs of one cloth closer at rest than the exclusion radius (the CPU
+// backend's: the thickness for cloth, twice it for paper) never collide:
+// the cloth's stretch and bending keep them apart. A vertex and a triangle
+// closer at rest than FACING thicknesses collide only while the vertex
+// lies over the triangle, not beside it (OVER): where the cloth has folded
+// back on itself within a few edges. Flat cloth thus gives no candidates,
+// since the margin keeps thickness + margin below FACING thicknesses, and
+// a cloth crumpled as tightly as its thickness still meets itself two
+// edges along.
 // Triangles are found through their vertices: a triangle within reach of
 // a particle has every vertex within the cell size of it, so the particles
 // of the 27 cells around it farther than that are skipped, and a triangle
@@ -247,12 +252,28 @@ fn owned_span(i: u32) -> f32 {
     return span;
 }
 
-// Whether particles i and j of one cloth lie closer at rest than the
-// exclusion radius.
-fn rest_near(i: vec4<f32>, j: u32) -> bool {
+// Whether particles i and j of one cloth lie closer at rest than `radius`.
+fn rest_near(i: vec4<f32>, j: u32, radius: f32) -> bool {
     let r = rest[j];
     let d = r.xyz - i.xyz;
-    return r.w == i.w && dot(d, d) < params.contact_exclusion * params.contact_exclusion;
+    return r.w == i.w && dot(d, d) < radius * radius;
+}
+
+// Thicknesses within which, at rest, a vertex collides with a triangle of
+// its cloth only where it lies over it, and a particle pair never does.
+const FACING: f32 = 2.0;
+// Sine of the least angle between a vertex's offset from a triangle and
+// the triangle's plane at which the vertex lies over it (30 degrees).
+const OVER: f32 = 0.5;
+
+fn facing_radius() -> f32 {
+    return max(FACING * params.contact_thickness, params.contact_exclusion);
+}
+
+// Whether offset `d` from a triangle of normal `n` (any length) leaves its
+// plane at OVER or steeper.
+fn over(d: vec3<f32>, n: vec3<f32>) -> bool {
+    return dot(d, n) * dot(d, n) >= OVER * OVER * dot(d, d) * dot(n, n);
 }
 
 fn push(i: u32, other: u32) {
@@ -274,7 +295,7 @@ fn rest_distance_to_triangle(home: vec4<f32>, v: vec3<u32>) -> f32 {
 
 // Takes triangle t as particle i's candidate if it lies within thickness +
 // margin of i, unless it is of i's cloth and closer to i at rest than the
-// exclusion radius.
+// exclusion radius, or than the facing radius with i beside it.
 fn consider_triangle(i: u32, home: vec4<f32>, t: u32, reach: f32) {
     let v = triangle(t);
     if i == v.x || i == v.y || i == v.z {
@@ -286,9 +307,16 @@ fn consider_triangle(i: u32, home: vec4<f32>, t: u32, reach: f32) {
     let c = position(v.z);
     let w = closest_barycentric(p, a, b, c);
     let d = p - (w.x * a + w.y * b + w.z * c);
-    if dot(d, d) < reach * reach && (rest[v.x].w != home.w || rest_distance_to_triangle(home, v) >= params.contact_exclusion) {
-        push(i, t);
+    if dot(d, d) >= reach * reach {
+        return;
     }
+    if rest[v.x].w == home.w {
+        let apart = rest_distance_to_triangle(home, v);
+        if apart < params.contact_exclusion || (apart < facing_radius() && !over(d, cross(b - a, c - a))) {
+            return;
+        }
+    }
+    push(i, t);
 }
 
 // Whether the ends u and v, `d` apart squared, come before i and j (i < j),
@@ -396,7 +424,7 @@ fn cell_slots(near: vec3<i32>) -> vec2<u32> {
 // its bucket), within the cell size, and not closer at rest than the
 // exclusion radius.
 fn neighbour(j: u32, d: vec3<f32>, near: vec3<i32>, size: f32, home: vec4<f32>) -> bool {
-    return all(cell_of(position(j), size) == near) && dot(d, d) <= size * size && !rest_near(home, j);
+    return all(cell_of(position(j), size) == near) && dot(d, d) <= size * size && !rest_near(home, j, params.contact_exclusion);
 }
 
 // Particle i's candidates: the particles (of higher index: each pair once)
@@ -429,7 +457,7 @@ fn find(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) 
                     if !neighbour(j, d, near, size, home) {
                         continue;
                     }
-                    if j > i && dot(d, d) < reach * reach {
+                    if j > i && dot(d, d) < reach * reach && !rest_near(home, j, facing_radius()) {
                         push(i, j | PARTICLE_PAIR);
                     }
                     // Every point of j's triangles lies within their span

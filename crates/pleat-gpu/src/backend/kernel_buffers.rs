@@ -69,6 +69,8 @@ pub(super) struct SelfContactBuffers {
     /// Hash table size: a power of two, a multiple of the scan block.
     pub(super) buckets: u32,
     pub(super) margin: f32,
+    /// The rest distance below which a cloth's pairs never collide: the CPU
+    /// backend's, by thickness ([`exclusion`]).
     pub(super) exclusion: f32,
     /// Most candidate pairs kept.
     pub(super) capacity: u32,
@@ -105,11 +107,10 @@ impl StrainLimitBuffers {
 
 /// Most a rest edge may stretch and still find its triangles' contacts.
 const CONTACT_EDGE_STRETCH: f32 = 1.5;
-/// A cloth's pairs closer at rest than this many thicknesses never collide.
-const CONTACT_EXCLUSION: f32 = 2.0;
 /// How much farther than the thickness a candidate pair may lie, in
-/// thicknesses: below the exclusion radius less one, so that flat cloth,
-/// and cloth compressed by up to an eighth, gives no candidates.
+/// thicknesses: below 0.875 times `FACING` in contact_grid.wgsl (2) less
+/// one, so that flat cloth, and cloth compressed by up to an eighth, gives
+/// no candidates.
 const CONTACT_MARGIN: f32 = 0.75;
 /// Candidate pairs per particle kept at most.
 const CANDIDATES_PER_PARTICLE: u64 = 16;
@@ -132,7 +133,7 @@ impl SelfContactBuffers {
             .iter()
             .map(|e| e.rest_length)
             .fold(0.0, f32::max);
-        let exclusion = CONTACT_EXCLUSION * thickness;
+        let exclusion = exclusion(model) * thickness;
         let margin = CONTACT_MARGIN * thickness;
         let buckets = (2 * n).next_power_of_two().max(crate::kernels::WORKGROUP);
         let grid_len = 2 * buckets as u64 + n as u64 + (buckets / crate::kernels::WORKGROUP) as u64;
@@ -196,6 +197,18 @@ impl SelfContactBuffers {
         self.candidates = grown;
         self.capacity = capacity as u32;
         true
+    }
+}
+
+/// The rest distance, in thicknesses, below which `model`'s pairs never
+/// collide, as on the CPU backend: paper's where any cloth is paper (the
+/// kernels take one radius for all).
+fn exclusion(model: &Model) -> f32 {
+    use pleat::collide::self_contact::{CLOTH_EXCLUSION, PAPER_EXCLUSION};
+    if model.cloths.iter().any(|c| c.paper.is_some()) {
+        PAPER_EXCLUSION
+    } else {
+        CLOTH_EXCLUSION
     }
 }
 

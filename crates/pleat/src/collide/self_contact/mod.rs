@@ -49,6 +49,7 @@ pub use narrow_phase::ContactMasses;
 use patches::Patches;
 use rayon::prelude::*;
 use rest::RestNeighbourhood;
+pub use rest::{CLOTH_EXCLUSION, PAPER_EXCLUSION};
 use serde::{Deserialize, Serialize};
 use std::time::Duration;
 use web_time::Instant;

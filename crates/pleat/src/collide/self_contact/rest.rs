@@ -25,10 +25,10 @@ use glam::Vec3;
 
 /// A cloth's vertex-triangle and edge-edge pairs closer at rest than this
 /// many thicknesses never collide.
-const CLOTH_EXCLUSION: f32 = 1.0;
+pub const CLOTH_EXCLUSION: f32 = 1.0;
 /// Paper's vertex-triangle and edge-edge pairs closer at rest than this many
 /// thicknesses never collide.
-const PAPER_EXCLUSION: f32 = 2.0;
+pub const PAPER_EXCLUSION: f32 = 2.0;
 /// A cloth's layers at rest are searched among particle pairs closer than
 /// this many (thickness + longest edge): far enough to take in the corners
 /// of a triangle in the layer under a particle.
