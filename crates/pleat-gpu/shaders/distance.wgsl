@@ -75,3 +75,15 @@ fn limit_held(@builtin(local_invocation_index) t: u32) {
     }
     sweep_while_beyond(t, WORKGROUP, 1.0, 0u, 0u, FOLD_HOLD_SWEEPS);
 }
+
+// One round of them where the paper has self-contacts: up to
+// HOLD_ROUND_SWEEPS sweeps while an edge is beyond its limit (one once
+// none is), each round's motion then checked by the contacts (record.rs),
+// as crate::solver::xpbd's rounds.
+@compute @workgroup_size(256)
+fn limit_held_round(@builtin(local_invocation_index) t: u32) {
+    if t == 0u {
+        sweep_again = 1u;
+    }
+    sweep_while_beyond(t, WORKGROUP, 1.0, 0u, 0u, HOLD_ROUND_SWEEPS);
+}

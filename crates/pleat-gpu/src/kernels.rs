@@ -26,6 +26,13 @@ pub fn workgroups(count: u32) -> (u32, u32) {
     }
 }
 
+/// Sweeps of a round of the held strain limits where the paper has
+/// self-contacts, each round's motion then checked by the contacts: half
+/// the CPU backend's rounds, since the GPU's edge pairs have no continuous
+/// detection. With rounds of ten, Origami Simulator's whirlpool twist
+/// crossed itself twice as its limits tightened on the GPU; with five, not.
+pub const HOLD_ROUND_SWEEPS: u32 = 5;
+
 /// The kernels of the distances' strain limits alone (distance.wgsl).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DistanceLimit {
@@ -37,16 +44,20 @@ pub enum DistanceLimit {
     Further,
     /// The held limits met, in one workgroup.
     Held,
+    /// One round of the held limits' sweeps, in one workgroup, where the
+    /// paper has self-contacts to check each round.
+    HeldRound,
     /// Every sweep of a substep, in one workgroup.
     Alone,
 }
 
 impl DistanceLimit {
-    pub const ALL: [DistanceLimit; 5] = [
+    pub const ALL: [DistanceLimit; 6] = [
         DistanceLimit::Sweep,
         DistanceLimit::Measured,
         DistanceLimit::Further,
         DistanceLimit::Held,
+        DistanceLimit::HeldRound,
         DistanceLimit::Alone,
     ];
 
@@ -57,6 +68,7 @@ impl DistanceLimit {
             DistanceLimit::Measured => "limit_measured",
             DistanceLimit::Further => "limit_further",
             DistanceLimit::Held => "limit_held",
+            DistanceLimit::HeldRound => "limit_held_round",
             DistanceLimit::Alone => "limit_alone",
         }
     }

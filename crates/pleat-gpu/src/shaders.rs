@@ -241,7 +241,8 @@ mod tests {
         }
     }
 
-    /// The kernels' copies of the core's constants are the core's.
+    /// The kernels' copies of the core's constants are the core's (and of
+    /// the backend's, its own).
     #[test]
     fn constants_are_the_cores() {
         use pleat::constraint::hinge::STIFFENING_ANGLE;
@@ -257,6 +258,11 @@ mod tests {
             ),
             (DISTANCE, "STRAIN_LIMIT_SLACK", STRAIN_LIMIT_SLACK as f64),
             (DISTANCE, "FOLD_HOLD_SWEEPS", FOLD_HOLD_SWEEPS as f64),
+            (
+                DISTANCE,
+                "HOLD_ROUND_SWEEPS",
+                crate::kernels::HOLD_ROUND_SWEEPS as f64,
+            ),
             (HINGE, "STIFFENING_ANGLE", STIFFENING_ANGLE as f64),
         ];
         for (m, name, core) in pairs {

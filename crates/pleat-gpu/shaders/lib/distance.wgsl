@@ -14,6 +14,9 @@ const MAX_STRAIN_LIMIT_SWEEPS: u32 = 384u;
 const STRAIN_LIMIT_SLACK: f32 = 1.8;
 // Most sweeps of the held limits when a fold comes to rest.
 const FOLD_HOLD_SWEEPS: u32 = 500u;
+// Sweeps of a round of them, where self-contacts check each round
+// (crate::kernels::HOLD_ROUND_SWEEPS).
+const HOLD_ROUND_SWEEPS: u32 = 5u;
 
 // The edge of a constraint: its index, inverse masses, `C` and direction
 // from b to a; `ok` is false where it cannot move.

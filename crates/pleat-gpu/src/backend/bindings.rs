@@ -70,10 +70,12 @@ const ONE_WORKGROUP_EDGES: u32 = 16_384;
 /// sweeps run in one workgroup of one dispatch, a barrier between
 /// colours, so that they stop themselves with no read back; a sheet that
 /// is not jammed pays one empty dispatch.
-/// The held limits are met in one such dispatch too.
+/// The held limits are met in one such dispatch too, or in rounds of
+/// them where the paper has self-contacts.
 pub(super) struct StrainLimitStages {
     pub(super) substep: SubstepSweeps,
     pub(super) held: Stage,
+    pub(super) held_round: Stage,
 }
 
 /// How a substep's strain-limit sweeps are dispatched.
@@ -193,6 +195,7 @@ impl Stages {
                 StrainLimitStages {
                     substep,
                     held: limit_stage(DistanceLimit::Held),
+                    held_round: limit_stage(DistanceLimit::HeldRound),
                 }
             });
         Stages {

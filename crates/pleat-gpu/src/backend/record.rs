@@ -7,11 +7,14 @@ use super::bindings::{SelfContactStage, Stage, StrainLimitStages, SubstepSweeps}
 use super::kernel_buffers::FrameData;
 use super::GpuBackend;
 use crate::data::{self, GpuPose, Params};
-use crate::kernels::{workgroups, BUILD_KERNELS, COMPLIANCE_SLOTS, UNIFORM_STRIDE};
+use crate::kernels::{
+    workgroups, BUILD_KERNELS, COMPLIANCE_SLOTS, HOLD_ROUND_SWEEPS, UNIFORM_STRIDE,
+};
 use crate::timing::TimedStage;
 use pleat::collide::ColliderPose;
 use pleat::constraint::Compliances;
 use pleat::control::Control;
+use pleat::solver::xpbd::FOLD_HOLD_SWEEPS;
 use pleat::solver::{substep_times, SolverSettings, StageTimes};
 use pleat::World;
 
@@ -286,18 +289,33 @@ impl GpuBackend {
 
     /// Sweeps of the strain limits over the positions alone, before the
     /// frame's first prediction, until no edge is beyond its limit (up to
-    /// [`pleat::solver::xpbd::FOLD_HOLD_SWEEPS`], in one dispatch): the velocities stay as they
+    /// [`FOLD_HOLD_SWEEPS`], in one dispatch): the velocities stay as they
     /// are ([`pleat::solver::xpbd::XpbdConstraints::meet_held_limits`]).
+    /// Where the paper has self-contacts, in rounds of [`HOLD_ROUND_SWEEPS`]
+    /// as on the CPU (shorter ones), each round's motion then checked by the contacts as a
+    /// substep's is (from the round's start, copied into the previous
+    /// positions, which the next prediction sets again), so that no layer
+    /// is carried through another; the rounds after the limits are met
+    /// sweep once and move nothing.
     fn record_held_limits(&self, encoder: &mut wgpu::CommandEncoder) -> u32 {
         let Some(limits) = &self.stages.strain_limit else {
             return 0;
         };
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("held fold limits"),
-            timestamp_writes: None,
-        });
-        pass.set_bind_group(0, &self.stages.state, &[0]);
-        dispatch(&mut pass, &limits.held, Some(1))
+        let Some(contact) = &self.stages.self_contact else {
+            let mut pass = held_pass(encoder, &self.stages.state);
+            return dispatch(&mut pass, &limits.held, Some(1));
+        };
+        let particles = self.counts.particles;
+        let mut n = 0;
+        for _ in 0..FOLD_HOLD_SWEEPS.div_ceil(HOLD_ROUND_SWEEPS) {
+            encoder.copy_buffer_to_buffer(&self.pos, 0, &self.prev, 0, self.pos.size());
+            let mut pass = held_pass(encoder, &self.stages.state);
+            n += dispatch(&mut pass, &limits.held_round, Some(1));
+            n += contact.record_broad_phase(&mut pass, particles);
+            n += contact.record_narrow_phase(&mut pass, particles);
+            n += contact.record_solve(&mut pass, particles);
+        }
+        n
     }
 
     /// Records one substep as six passes (stamped where the adapter has
@@ -383,6 +401,20 @@ impl GpuBackend {
         });
         n
     }
+}
+
+/// A pass of the held limits, with the state bound with the frame's first
+/// parameters.
+fn held_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    state: &wgpu::BindGroup,
+) -> wgpu::ComputePass<'e> {
+    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+        label: Some("held fold limits"),
+        timestamp_writes: None,
+    });
+    pass.set_bind_group(0, state, &[0]);
+    pass
 }
 
 /// Dispatches `pipeline` over `particles` invocations (one dispatch).
