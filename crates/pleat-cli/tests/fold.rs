@@ -363,8 +363,11 @@ fn fold_report(name: &str, pattern: &str, args: &[&str]) -> serde_json::Value {
 
 /// Paper with a thickness folds in the GPU backend's persistent kernel,
 /// self-contacts and all (one dispatch a frame besides the health check
-/// and the margin's choice): the simple vertex ends with its layers apart,
-/// where without a thickness two of its triangle pairs cross.
+/// and the margin's choice, and once, as the fold comes to rest, the held
+/// limits' rounds, each checked by the hash grid's contacts: 14.6
+/// dispatches a frame over the fold's 180, where a dispatch per colour
+/// and substep made thousands): the simple vertex ends with its layers
+/// apart, where without a thickness two of its triangle pairs cross.
 #[test]
 fn thick_paper_folds_in_one_dispatch_a_frame_on_the_gpu_without_crossing() {
     let pattern = &shipped_pattern("shared/simpleVertex.svg");
@@ -383,10 +386,14 @@ fn thick_paper_folds_in_one_dispatch_a_frame_on_the_gpu_without_crossing() {
     assert_eq!(thick["self_intersections"], 0, "{thick}");
     let per_frame = |key: &str| thick[key].as_f64().unwrap();
     assert!(per_frame("self_contacts_per_frame") > 0.0, "{thick}");
-    assert!(per_frame("dispatches_per_frame") < 5.0, "{thick}");
+    let hold = HOLD_DISPATCHES / per_frame("frames");
+    assert!(per_frame("dispatches_per_frame") < 5.0 + hold, "{thick}");
     let thin = fold("0");
     assert!(thin["self_intersections"].as_u64().unwrap() > 0, "{thin}");
 }
+
+/// Most dispatches of the held limits' rounds with contacts, once a fold.
+const HOLD_DISPATCHES: f64 = 2000.0;
 
 /// A large pattern folds on the GPU backend as on the CPU wherever the GPU
 /// runs: a software adapter (lavapipe, in CI) ends every loop of a shader
