@@ -463,7 +463,7 @@ fn cloth_folding_onto_itself_never_crosses_on_the_gpu() {
 /// edges): the thickness is one edge of the falling cloth, which crumples
 /// as tightly as that as it lands, bringing triangles two edges apart at
 /// rest face to face. With the pairs closer at rest than twice the
-/// thickness left out, as they were, it crossed itself 53 times at frame 20.
+/// thickness left out, as they were, it crossed itself 53 times at frame 22.
 const TIGHT_CRUMPLE: &str = r#"{ "frames": 30, "fps": 60,
     "solver": { "substeps": 10, "damping": 0.1,
                 "self_collision": { "enabled": true, "thickness": 0.008, "friction": { "static": 0.3, "kinetic": 0.2 } } },

@@ -292,11 +292,11 @@ impl GpuBackend {
     /// [`FOLD_HOLD_SWEEPS`], in one dispatch): the velocities stay as they
     /// are ([`pleat::solver::xpbd::XpbdConstraints::meet_held_limits`]).
     /// Where the paper has self-contacts, in rounds of [`HOLD_ROUND_SWEEPS`]
-    /// as on the CPU (shorter ones), each round's motion then checked by the contacts as a
-    /// substep's is (from the round's start, copied into the previous
-    /// positions, which the next prediction sets again), so that no layer
-    /// is carried through another; the rounds after the limits are met
-    /// sweep once and move nothing.
+    /// (shorter than the CPU's), each round's motion then checked by the
+    /// contacts as a substep's is (from the round's start, copied into the
+    /// previous positions, which the next prediction sets again), so that
+    /// no layer is carried through another; the rounds after the limits
+    /// are met sweep once and move nothing.
     fn record_held_limits(&self, encoder: &mut wgpu::CommandEncoder) -> u32 {
         let Some(limits) = &self.stages.strain_limit else {
             return 0;
