@@ -41,8 +41,27 @@ fn arm_build() {
 // Arms the solve over the candidates kept.
 @compute @workgroup_size(1)
 fn arm_solve() {
+    arm(true);
+}
+
+// Arms the solve of a round of the held limits' sweeps (record.rs) as
+// `arm_solve`, but over no candidate where the round moved no particle:
+// once the limits are met the rounds left sweep once, find no edge beyond
+// its limit and leave the contacts be (as the CPU backend's rounds stop).
+@compute @workgroup_size(1)
+fn arm_round_solve() {
+    var moved = false;
+    for (var i = 0u; i < params.particle_count && !moved; i++) {
+        moved = any(pos[i].xyz != prev[i].xyz);
+    }
+    arm(moved);
+}
+
+// The solve's workgroup counts: over the candidates kept if `solve`, else
+// none.
+fn arm(solve: bool) {
     let found = atomicLoad(&candidates[FOUND]);
-    let kept = min(found, params.contact_capacity);
+    let kept = select(0u, min(found, params.contact_capacity), solve);
     atomicAdd(&candidates[SOLVED], kept);
     // Once a build: the counts stay until the next.
     if found > params.contact_capacity && atomicLoad(&candidates[FRESH]) == 1u {
@@ -50,10 +69,10 @@ fn arm_solve() {
         atomicMax(&candidates[OVERFLOWED], found);
     }
     let groups = (kept + WORKGROUP - 1u) / WORKGROUP;
-    let solve = 3u * BUILD_KERNELS;
-    args[solve] = min(groups, MAX_GROUPS);
-    args[solve + 1u] = max((groups + MAX_GROUPS - 1u) / MAX_GROUPS, 1u);
-    args[solve + 2u] = 1u;
+    let slot = 3u * BUILD_KERNELS;
+    args[slot] = min(groups, MAX_GROUPS);
+    args[slot + 1u] = max((groups + MAX_GROUPS - 1u) / MAX_GROUPS, 1u);
+    args[slot + 2u] = 1u;
 }
 
 // The margin, chosen frame by frame on the GPU, so that a run's path does

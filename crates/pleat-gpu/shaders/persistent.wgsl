@@ -39,8 +39,9 @@
 // words each, as self_contact.wgsl's candidates), then the frame's counts.
 @group(2) @binding(0) var<storage, read_write> topology: array<u32>;
 
-// Per particle: the contacts' correction x, y, z in fixed point and their
-// count (lib/contact_solve.wgsl), for up to MAX_CONTACT_PARTICLES.
+// Per particle: the contacts' correction x, y, z in fixed point and the
+// count of those that move it (lib/contact_solve.wgsl), for up to
+// MAX_CONTACT_PARTICLES.
 var<workgroup> accum: array<atomic<i32>, 2048>;
 // The contacts that acted in the frame's last iterations.
 var<workgroup> contacts_acted: atomic<u32>;
@@ -361,16 +362,28 @@ fn load_kept(t: u32) {
 }
 
 // The substep's self-contacts: the kept pairs in Jacobi iterations, each
-// iteration's corrections applied once all are summed; the last
-// iteration's acting contacts counted.
+// evaluated twice (counted per particle, then scaled and summed:
+// lib/contact_solve.wgsl), the corrections applied once all are summed;
+// the last iteration's acting contacts counted.
 fn self_contacts(t: u32) {
     keep_pairs(t);
     let count = atomicLoad(&kept);
     let last = program.contact_iterations - 1u;
     for (var iteration = 0u; iteration <= last; iteration++) {
         for (var j = t; j < count; j += THREADS) {
-            if pair_contact(topology[kept_start() + j]) && iteration == last {
-                atomicAdd(&contacts_acted, 1u);
+            touches = 0u;
+            if pair_contact(topology[kept_start() + j]) {
+                count_contact();
+            }
+        }
+        workgroupBarrier();
+        for (var j = t; j < count; j += THREADS) {
+            touches = 0u;
+            if pair_contact(topology[kept_start() + j]) {
+                scaled_contact();
+                if iteration == last {
+                    atomicAdd(&contacts_acted, 1u);
+                }
             }
         }
         workgroupBarrier();

@@ -27,11 +27,14 @@ pub fn workgroups(count: u32) -> (u32, u32) {
 }
 
 /// Sweeps of a round of the held strain limits where the paper has
-/// self-contacts, each round's motion then checked by the contacts: half
-/// the CPU backend's rounds, since the GPU's edge pairs have no continuous
-/// detection. With rounds of ten, Origami Simulator's whirlpool twist
-/// crossed itself twice as its limits tightened on the GPU; with five, not.
-pub const HOLD_ROUND_SWEEPS: u32 = 5;
+/// self-contacts, each round's motion then checked by the contacts: one,
+/// where the CPU backend's rounds are of ten, since the GPU's edge pairs
+/// have no continuous detection. Origami Simulator's whirlpool twist,
+/// folded on the GPU, crossed itself twice as its limits tightened with
+/// rounds of three (each contact's corrections scaled as one,
+/// lib/contact_solve.wgsl); with one, not. Rounds that move nothing solve
+/// no contact (contact_dispatch.wgsl's `arm_round_solve`).
+pub const HOLD_ROUND_SWEEPS: u32 = 1;
 
 /// The kernels of the distances' strain limits alone (distance.wgsl).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -123,11 +126,15 @@ pub struct SelfContactKernels {
     /// The edge pairs of a build, after `find` on `find`'s workgroups,
     /// where the model has paper (find_edges).
     pub find_edges: wgpu::ComputePipeline,
-    /// The indirect dispatches' counts, arm_build and arm_solve, and the
-    /// margin after a frame, choose_margin.
-    pub arm: [wgpu::ComputePipeline; 3],
-    /// The solve: contacts, the same counting those that acted, apply.
-    pub solve: [wgpu::ComputePipeline; 3],
+    /// The indirect dispatches' counts, arm_build and arm_solve, the
+    /// margin after a frame, choose_margin, and the solve's counts in a
+    /// round of the held limits, arm_round_solve.
+    pub arm: [wgpu::ComputePipeline; 4],
+    /// The solve, scaled per contact: count (an iteration's first pass),
+    /// contacts (its second), the second counting those that acted,
+    /// apply; then averaged per particle: contacts, the same counting
+    /// those that acted, apply (self_contact.wgsl).
+    pub solve: [wgpu::ComputePipeline; 7],
 }
 
 /// The pipelines of the first `N` entry points of `module`, in its order.

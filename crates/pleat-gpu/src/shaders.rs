@@ -134,13 +134,21 @@ pub const CONTACT_GRID: Module = module!(
 pub const CONTACT_DISPATCH: Module = module!(
     "contact_dispatch",
     [CONTACT_LIB],
-    ["arm_build", "arm_solve", "choose_margin"]
+    ["arm_build", "arm_solve", "choose_margin", "arm_round_solve"]
 );
 /// Self-contacts' Jacobi solve over the candidates.
 pub const SELF_CONTACT: Module = module!(
     "self_contact",
     [CONTACT_LIB, CONTACT_SOLVE_LIB],
-    ["contacts", "counted_contacts", "apply"]
+    [
+        "count",
+        "contacts",
+        "counted_contacts",
+        "apply",
+        "averaged_contacts",
+        "counted_averaged_contacts",
+        "apply_averaged"
+    ]
 );
 
 /// The health reduction: non-finite values, energy, paper strain.

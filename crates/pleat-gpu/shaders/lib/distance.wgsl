@@ -16,7 +16,7 @@ const STRAIN_LIMIT_SLACK: f32 = 1.8;
 const FOLD_HOLD_SWEEPS: u32 = 500u;
 // Sweeps of a round of them, where self-contacts check each round
 // (crate::kernels::HOLD_ROUND_SWEEPS).
-const HOLD_ROUND_SWEEPS: u32 = 5u;
+const HOLD_ROUND_SWEEPS: u32 = 1u;
 
 // The edge of a constraint: its index, inverse masses, `C` and direction
 // from b to a; `ok` is false where it cannot move.

@@ -32,6 +32,9 @@ pub(super) struct SelfContactStage {
     pub(super) iterations: u32,
     /// Whether a build takes edge pairs (the model has paper).
     pub(super) edge_pairs: bool,
+    /// Whether the contacts' corrections are scaled per contact (paper), not
+    /// averaged per particle (cloth).
+    pub(super) scaled: bool,
 }
 
 /// Every kernel with its bind group, in the order a substep runs them.
@@ -236,6 +239,7 @@ impl Stages {
                 args: c.args.clone(),
                 iterations: c.iterations,
                 edge_pairs: c.edge_pairs,
+                scaled: c.scaled,
             }),
             collide: (!b.collider_shapes.is_empty()).then(|| {
                 stage(

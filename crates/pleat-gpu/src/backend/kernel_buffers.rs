@@ -80,6 +80,10 @@ pub(super) struct SelfContactBuffers {
     /// Whether builds take edge pairs: some edges are listed under their
     /// ends (paper's, [`incident_edges`]).
     pub(super) edge_pairs: bool,
+    /// Whether each contact's corrections are scaled as one, keeping the
+    /// momentum (paper), or averaged per particle (cloth):
+    /// lib/contact_solve.wgsl.
+    pub(super) scaled: bool,
     /// Whether it has been said that they cannot grow.
     pub(super) told_full: bool,
 }
@@ -168,6 +172,7 @@ impl SelfContactBuffers {
             capacity: capacity as u32,
             iterations: pleat::collide::self_contact::iterations(model) as u32,
             edge_pairs,
+            scaled: model.cloths.iter().all(|c| c.paper.is_some()),
             told_full: false,
         }
     }

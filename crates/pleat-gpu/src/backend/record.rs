@@ -75,21 +75,48 @@ impl SelfContactStage {
     /// iteration's corrections applied ([`Self::record_solve`] applies
     /// those).
     fn record_narrow_phase(&self, pass: &mut wgpu::ComputePass<'_>, particles: u32) -> u32 {
-        let [contacts, counted_contacts, _] = &self.kernels.solve;
+        self.record_narrow_phase_armed(pass, particles, &self.kernels.arm[1])
+    }
+
+    /// The narrow phase with its workgroup counts set by `arm` (arm_solve,
+    /// or arm_round_solve in a round of the held limits).
+    fn record_narrow_phase_armed(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        particles: u32,
+        arm: &wgpu::ComputePipeline,
+    ) -> u32 {
         pass.set_bind_group(1, &self.arm, &[0]);
-        let mut n = over_particles(pass, &self.kernels.arm[1], 1);
+        let mut n = over_particles(pass, arm, 1);
         pass.set_bind_group(1, &self.solve, &[0]);
-        for _ in 1..self.iterations {
-            n += self.indirect(pass, contacts, BUILD_KERNELS);
-            n += self.record_solve(pass, particles);
+        for iteration in 1..=self.iterations {
+            if iteration > 1 {
+                n += self.record_solve(pass, particles);
+            }
+            n += self.record_iteration(pass, iteration == self.iterations);
         }
-        n + self.indirect(pass, counted_contacts, BUILD_KERNELS)
+        n
+    }
+
+    /// One Jacobi iteration's passes over the candidates, the `last`
+    /// counting the contacts that acted; its corrections summed, not
+    /// applied.
+    fn record_iteration(&self, pass: &mut wgpu::ComputePass<'_>, last: bool) -> u32 {
+        let solve = &self.kernels.solve;
+        let (counting, contacts) = if self.scaled {
+            (Some(&solve[0]), &solve[if last { 2 } else { 1 }])
+        } else {
+            (None, &solve[if last { 5 } else { 4 }])
+        };
+        let counted = counting.map_or(0, |count| self.indirect(pass, count, BUILD_KERNELS));
+        counted + self.indirect(pass, contacts, BUILD_KERNELS)
     }
 
     /// The corrections of `particles` particles applied.
     fn record_solve(&self, pass: &mut wgpu::ComputePass<'_>, particles: u32) -> u32 {
         pass.set_bind_group(1, &self.solve, &[0]);
-        over_particles(pass, &self.kernels.solve[2], particles)
+        let apply = &self.kernels.solve[if self.scaled { 3 } else { 6 }];
+        over_particles(pass, apply, particles)
     }
 
     /// Dispatches `pipeline` on the workgroup counts of indirect slot
@@ -296,7 +323,7 @@ impl GpuBackend {
     /// contacts as a substep's is (from the round's start, copied into the
     /// previous positions, which the next prediction sets again), so that
     /// no layer is carried through another; the rounds after the limits
-    /// are met sweep once and move nothing.
+    /// are met sweep once, move nothing and solve no contact.
     fn record_held_limits(&self, encoder: &mut wgpu::CommandEncoder) -> u32 {
         let Some(limits) = &self.stages.strain_limit else {
             return 0;
@@ -312,7 +339,8 @@ impl GpuBackend {
             let mut pass = held_pass(encoder, &self.stages.state);
             n += dispatch(&mut pass, &limits.held_round, Some(1));
             n += contact.record_broad_phase(&mut pass, particles);
-            n += contact.record_narrow_phase(&mut pass, particles);
+            let arm = &contact.kernels.arm[3];
+            n += contact.record_narrow_phase_armed(&mut pass, particles, arm);
             n += contact.record_solve(&mut pass, particles);
         }
         n
