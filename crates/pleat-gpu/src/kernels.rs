@@ -130,11 +130,24 @@ pub struct SelfContactKernels {
     /// margin after a frame, choose_margin, and the solve's counts in a
     /// round of the held limits, arm_round_solve.
     pub arm: [wgpu::ComputePipeline; 4],
-    /// The solve, scaled per contact: count (an iteration's first pass),
-    /// contacts (its second), the second counting those that acted,
-    /// apply; then averaged per particle: contacts, the same counting
-    /// those that acted, apply (self_contact.wgsl).
-    pub solve: [wgpu::ComputePipeline; 7],
+    /// The solve, each contact's corrections scaled as one (paper's).
+    pub scaled: ContactSolve,
+    /// The solve, each particle's corrections averaged (cloth's).
+    pub averaged: ContactSolve,
+}
+
+/// The kernels of a Jacobi iteration over the candidates (self_contact.wgsl).
+#[derive(Clone)]
+pub struct ContactSolve {
+    /// The first pass, counting per particle the contacts that move it
+    /// (the scaled solve's alone).
+    pub count: Option<wgpu::ComputePipeline>,
+    /// The contacts' corrections summed.
+    pub contacts: wgpu::ComputePipeline,
+    /// The same, counting the contacts that acted (a substep's last).
+    pub counted_contacts: wgpu::ComputePipeline,
+    /// Each particle moved by its corrections.
+    pub apply: wgpu::ComputePipeline,
 }
 
 /// The pipelines of the first `N` entry points of `module`, in its order.
@@ -236,6 +249,7 @@ impl Kernels {
                 cache: None,
             })
         };
+        let contact = |entry| pipeline(shaders::SELF_CONTACT, entry, &with_kernel);
         Kernels {
             predict: pipeline(shaders::PREDICT, "predict", &state_only),
             update_velocities: pipeline(shaders::PREDICT, "update_velocities", &state_only),
@@ -271,7 +285,18 @@ impl Kernels {
                 arm: entries(shaders::CONTACT_DISPATCH, |m, e| {
                     pipeline(m, e, &with_kernel)
                 }),
-                solve: entries(shaders::SELF_CONTACT, |m, e| pipeline(m, e, &with_kernel)),
+                scaled: ContactSolve {
+                    count: Some(contact("count")),
+                    contacts: contact("contacts"),
+                    counted_contacts: contact("counted_contacts"),
+                    apply: contact("apply"),
+                },
+                averaged: ContactSolve {
+                    count: None,
+                    contacts: contact("averaged_contacts"),
+                    counted_contacts: contact("counted_averaged_contacts"),
+                    apply: contact("apply_averaged"),
+                },
             },
             state_layout,
             kernel_layout,

@@ -9,17 +9,16 @@
 //   each contact's corrections scaled by the relaxation over the count of
 //   its busiest particle (`scaled_contact`); `apply_correction` moves each
 //   particle by its sum. One scale per contact keeps its corrections equal
-//   and opposite, so the contacts keep the total momentum: averaged per
-//   particle, a vertex in one contact takes the whole push of a triangle
-//   in many, and paper folded with a thickness shook at tens of metres a
-//   second where the CPU backend's came to rest.
+//   and opposite, so the contacts keep the total momentum (averaged per
+//   particle, a vertex in one contact would take the whole push of a
+//   triangle in many, and jammed paper would never come to rest).
 // - cloth's: each contact's corrections summed with a count per particle
 //   (`sum_contact`), each particle moved by their average
 //   (`apply_average`, Macklin et al. 2014). A cloth lying on a collider
 //   under another takes its share of each push and the collider pushes it
-//   back; scaled per contact, the many contacts of the lower cloth's
-//   particles slowed the upper one's so that it sank through (the CPU
-//   backend gives the particles a collider holds no share instead).
+//   back; scaled per contact, the lower cloth's many contacts would slow
+//   the upper one's until it sank through (the CPU backend gives the
+//   particles a collider holds no share instead, which the GPU has not).
 
 const FIXED: f32 = 16777216.0;
 

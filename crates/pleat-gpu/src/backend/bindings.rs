@@ -7,7 +7,7 @@ use super::GpuBackend;
 use crate::buffers::{entry, sized_entry, zeroed};
 use crate::data::{Params, Range};
 use crate::health::ContactCounts;
-use crate::kernels::{DistanceLimit, Kernels, SelfContactKernels};
+use crate::kernels::{ContactSolve, DistanceLimit, Kernels, SelfContactKernels};
 
 /// One kernel with its buffers bound, and the slices it is dispatched on.
 pub(super) struct Stage {
@@ -26,15 +26,15 @@ pub(super) struct SelfContactStage {
     /// The solve's: candidates, topology, rest, corrections.
     pub(super) solve: wgpu::BindGroup,
     pub(super) kernels: SelfContactKernels,
+    /// The solve's kernels: each contact's corrections scaled as one
+    /// (paper's) or each particle's averaged (cloth's).
+    pub(super) solve_kernels: ContactSolve,
     /// The indirect dispatches' workgroup counts.
     pub(super) args: wgpu::Buffer,
     /// Jacobi iterations a substep ([`pleat::collide::self_contact::iterations`]).
     pub(super) iterations: u32,
     /// Whether a build takes edge pairs (the model has paper).
     pub(super) edge_pairs: bool,
-    /// Whether the contacts' corrections are scaled per contact (paper), not
-    /// averaged per particle (cloth).
-    pub(super) scaled: bool,
 }
 
 /// Every kernel with its bind group, in the order a substep runs them.
@@ -236,10 +236,14 @@ impl Stages {
                 arm: group([&c.args, &c.topology, &c.rest, &c.candidates]),
                 solve: group([&c.candidates, &c.topology, &c.rest, &c.accum]),
                 kernels: kernels.self_contact.clone(),
+                solve_kernels: if c.scaled {
+                    kernels.self_contact.scaled.clone()
+                } else {
+                    kernels.self_contact.averaged.clone()
+                },
                 args: c.args.clone(),
                 iterations: c.iterations,
                 edge_pairs: c.edge_pairs,
-                scaled: c.scaled,
             }),
             collide: (!b.collider_shapes.is_empty()).then(|| {
                 stage(

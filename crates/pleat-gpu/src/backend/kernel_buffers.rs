@@ -172,7 +172,7 @@ impl SelfContactBuffers {
             capacity: capacity as u32,
             iterations: pleat::collide::self_contact::iterations(model) as u32,
             edge_pairs,
-            scaled: model.cloths.iter().all(|c| c.paper.is_some()),
+            scaled: pleat::collide::self_contact::all_paper(model),
             told_full: false,
         }
     }

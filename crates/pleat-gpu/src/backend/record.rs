@@ -102,21 +102,23 @@ impl SelfContactStage {
     /// counting the contacts that acted; its corrections summed, not
     /// applied.
     fn record_iteration(&self, pass: &mut wgpu::ComputePass<'_>, last: bool) -> u32 {
-        let solve = &self.kernels.solve;
-        let (counting, contacts) = if self.scaled {
-            (Some(&solve[0]), &solve[if last { 2 } else { 1 }])
+        let solve = &self.solve_kernels;
+        let contacts = if last {
+            &solve.counted_contacts
         } else {
-            (None, &solve[if last { 5 } else { 4 }])
+            &solve.contacts
         };
-        let counted = counting.map_or(0, |count| self.indirect(pass, count, BUILD_KERNELS));
+        let counted = solve
+            .count
+            .as_ref()
+            .map_or(0, |count| self.indirect(pass, count, BUILD_KERNELS));
         counted + self.indirect(pass, contacts, BUILD_KERNELS)
     }
 
     /// The corrections of `particles` particles applied.
     fn record_solve(&self, pass: &mut wgpu::ComputePass<'_>, particles: u32) -> u32 {
         pass.set_bind_group(1, &self.solve, &[0]);
-        let apply = &self.kernels.solve[if self.scaled { 3 } else { 6 }];
-        over_particles(pass, apply, particles)
+        over_particles(pass, &self.solve_kernels.apply, particles)
     }
 
     /// Dispatches `pipeline` on the workgroup counts of indirect slot

@@ -76,7 +76,7 @@ pub fn iterations(model: &Model) -> usize {
 }
 
 /// Whether every cloth of `model` is paper.
-fn all_paper(model: &Model) -> bool {
+pub fn all_paper(model: &Model) -> bool {
     model.cloths.iter().all(|c| c.paper.is_some())
 }
 
