@@ -133,13 +133,57 @@ fn crane_on_gpu(settings: pleat::solver::SolverSettings, progress: f32) -> Simul
 
 /// The crane on the GPU backend, folding by `ramp`.
 fn crane_folded_on_gpu(settings: pleat::solver::SolverSettings, ramp: FoldRamp) -> Simulation {
+    pattern_folded_on_gpu("origami-simulator/traditionalCrane.svg", settings, ramp)
+}
+
+/// The pattern `file` of patterns/ on the GPU backend, folding by `ramp`.
+fn pattern_folded_on_gpu(
+    file: &str,
+    settings: pleat::solver::SolverSettings,
+    ramp: FoldRamp,
+) -> Simulation {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../patterns/origami-simulator/traditionalCrane.svg");
+        .join("../../patterns")
+        .join(file);
     let sheet =
         Sheet::from_pattern(&load_pattern(&path).unwrap(), &SheetOptions::default()).unwrap();
     let (model, world) = paper_model(&sheet);
     let (backend, _) = GpuBackend::new(context(), &model, &world, &settings).unwrap();
     paper_simulation_on((model, world), settings, Box::new(backend), ramp)
+}
+
+/// Paper's self-contacts on the GPU keep the layers of a flat fold apart:
+/// the bird base (four flaps folded flat onto each other), folded with a
+/// thickness as `pleat fold` folds it (120 frames of ramp, 60 at rest),
+/// crosses itself at no 10th frame. Without contact its flaps pass
+/// through one another as the fold closes (10 crossing pairs at frame
+/// 120), so the count can fail.
+#[test]
+fn a_bird_base_folded_with_a_thickness_never_crosses_itself_on_the_gpu() {
+    use pleat::metrics::intersections::count_self_intersections;
+    let ramp = FoldRamp {
+        progress: 1.0,
+        frames: 120,
+    };
+    let crossings = |settings| {
+        let mut sim = pattern_folded_on_gpu("shared/birdBase.svg", settings, ramp);
+        (1..=180)
+            .filter_map(|frame| {
+                sim.step(1.0 / 60.0);
+                (frame % 10 == 0).then(|| {
+                    sim.sync();
+                    count_self_intersections(&sim.particles.x, &sim.model.triangles)
+                })
+            })
+            .collect::<Vec<_>>()
+    };
+    let with = crossings(paper_solver_settings_with_contact(0.0005));
+    assert!(with.iter().all(|&c| c == 0), "every 10th frame: {with:?}");
+    let without = crossings(paper_solver_settings());
+    assert!(
+        without.iter().any(|&c| c > 0),
+        "every 10th frame: {without:?}"
+    );
 }
 
 /// Paper's self-contacts keep the momentum on the GPU, as on the CPU: each
